@@ -1,0 +1,29 @@
+#pragma once
+// Combinatorial structure of a tet mesh: its boundary surface, which elements and vertices touch
+// it, and face adjacency between elements (the dual graph used by connectivity repair).
+
+#include <vector>
+
+#include "rbaa/mesh/tet_mesh.hpp"
+
+namespace rbaa {
+
+/// #F by 3 boundary triangles (faces used by exactly one tet), oriented with outward normals.
+/// Deterministic order: by element index, then local face index.
+Faces boundary_faces(const TetMesh& mesh);
+
+/// Sorted indices of the vertices on the boundary surface.
+std::vector<int> boundary_vertices(const TetMesh& mesh);
+
+/// #T flags: element has a boundary face (or, with by_vertex, any boundary vertex).
+std::vector<char> boundary_elements(const TetMesh& mesh, bool by_vertex = false);
+
+/// #T by 4 face neighbours: entry (e, k) is the element sharing the face opposite local vertex k
+/// of element e, or -1 on the boundary. Throws rbaa::InputError if a face is shared by more
+/// than two tets (non-manifold).
+Tets face_adjacency(const TetMesh& mesh);
+
+/// Number of face-connected components among the elements with flag set (all if empty).
+int count_components(const TetMesh& mesh, const std::vector<char>& flags = {});
+
+}  // namespace rbaa

@@ -1,0 +1,109 @@
+#pragma once
+// A scene: the reference object, the obstacles, the initial state, time stepping, contact and
+// solver settings, and the attack's material bounds and optimiser settings. Loaded from YAML
+// (configs/<scene>.yaml) by load_scene, which validates every key; SI units throughout.
+
+#include <Eigen/Core>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace rbaa {
+
+/// Where the reference object's tet mesh comes from: a primitive (meshed with CGAL at load time,
+/// deterministically), a closed surface file (meshed likewise) or a tet mesh file.
+struct MeshSource {
+  std::string shape;         ///< sphere | cube | star | bat | bunny, or empty
+  std::string surface_file;  ///< closed surface (.off/.obj/.stl), or empty
+  std::string mesh_file;     ///< tet mesh (.msh/.mesh/.node), or empty
+  int target_tets = 0;       ///< for shape and surface; 0 = the shape's default
+  // Primitive parameters (m); <= 0 means the SPEC's default for the shape.
+  double radius = 0;         ///< sphere
+  double side = 0;           ///< cube
+  // Surfaces: scale so that the tet mesh has this volume (m^3) and centre it (0 = leave as is).
+  double volume = 0;
+};
+
+/// Half-space obstacle {x : normal . x >= offset}; normal is unit length.
+struct Plane {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double offset = 0.0;
+};
+
+enum class Integrator { kBdf1, kBdf2 };
+enum class MassModel { kConsistent, kLumped };
+
+/// Closed interval [lo, hi].
+struct Range {
+  double lo = 0, hi = 0;
+};
+
+struct Scene {
+  std::string name;
+  std::string source;  ///< file the scene was loaded from (for error messages)
+
+  MeshSource mesh;
+
+  // Initial state of the reference object (its centre of mass is placed at `position`, after an
+  // optional rotation of `rotation_angle_deg` degrees about `rotation_axis` about the centre).
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< m
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< m/s
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< rad/s
+  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitX();
+  double rotation_angle_deg = 0.0;
+
+  std::vector<Plane> planes;
+  Eigen::Vector3d gravity{0.0, 0.0, -9.8};  ///< m/s^2; zero when the scene switches it off
+
+  // Time stepping.
+  double time_step = 0.01;  ///< h (s)
+  double duration = 0.25;   ///< T (s)
+  Integrator integrator = Integrator::kBdf2;
+  MassModel mass = MassModel::kConsistent;
+
+  // Contact (IPC log barrier on unsigned distances).
+  double d_hat = 1e-3;  ///< activation distance (m)
+  double kappa = 0.0;   ///< barrier stiffness (J per unit of b); 0 = choose by the energy rule
+
+  // Newton.
+  double newton_tolerance = 1e-8;  ///< on ||dq||_inf / h, relative to the rest bbox diagonal per s
+  int newton_max_iterations = 100;
+
+  // Reference material (the "as rigid as possible" baseline).
+  double reference_Y = 1e13;
+  double reference_nu = 0.28;
+  double reference_rho = 2500.0;
+
+  // Attack material bounds.
+  Range Y_range{2.5e9, 6.5e11};
+  Range nu_range{0.2, 0.4};
+  Range rho_range{800.0, 11300.0};
+  double alpha_min = 1e-3;
+
+  // Attack (optimiser) settings, used by `rbaa attack`.
+  std::vector<std::string> fields{"Y", "nu", "rho", "alpha"};
+  int iterations = 50;
+  double learning_rate = 0.05;
+  double beta = 1e4;
+  double adam_beta1 = 0.7;
+  double adam_beta2 = 0.95;
+  unsigned seed = 1;
+  double perturbation = 0.1;  ///< std. dev. of the initial theta perturbation
+  double alpha0 = 0.99;       ///< initial interior occupancy
+  double smoothing_gamma = 1.0;  ///< relative to the mean edge length squared
+  bool boundary_by_vertex = false;  ///< fix elements with any boundary vertex (else: boundary face)
+  double round_threshold = 0.5;
+};
+
+/// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the YAML
+/// before validation (the command line's --set). Relative file paths are resolved against the
+/// config's folder. Throws rbaa::InputError naming the file and key on unknown keys, wrong types,
+/// NaN or out-of-range values.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// Parses a scene from YAML text; `source` names it in errors and `base_dir` resolves paths.
+Scene parse_scene(const std::string& yaml_text, const std::string& source,
+                  const std::string& base_dir, const std::vector<std::string>& overrides = {});
+
+}  // namespace rbaa

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package rbaa needs to build, test and run, and makes OpenBLAS the
+# BLAS/LAPACK that CHOLMOD actually runs with. Idempotent: safe to run again.
+set -euo pipefail
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libceres-dev libeigen3-dev libsuitesparse-dev
+  libgoogle-glog-dev libgflags-dev
+  libcgal-dev libcgal-demo
+  libbullet-dev libbullet-extras-dev
+  libboost-graph-dev libyaml-cpp-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libopenblas0-pthread libopenblas-pthread-dev
+  gnuplot-nox
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "[rbaa] installing: ${missing[*]}" >&2
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# libceres-dev pulls in ATLAS and Debian's alternatives may then pick it as the system BLAS and
+# LAPACK; CHOLMOD factorised the ball's system ~3x slower under ATLAS than under OpenBLAS on two
+# threads (SPEC section 9). Point every BLAS/LAPACK alternative at OpenBLAS.
+arch=$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || echo x86_64-linux-gnu)
+for name in libblas.so.3 liblapack.so.3 libblas.so liblapack.so; do
+  alt="${name}-${arch}"
+  target=$(update-alternatives --list "$alt" 2>/dev/null | grep openblas | head -n1 || true)
+  if [ -n "$target" ]; then
+    $SUDO update-alternatives --set "$alt" "$target" >/dev/null
+  fi
+done
+echo "[rbaa] dependencies ready; BLAS: $(readlink -f /usr/lib/${arch}/libblas.so.3)" >&2

@@ -1,0 +1,90 @@
+// rbaa's command line: `rbaa <verb> --flags`. Flags are gflags (so --flagfile works); each verb
+// lives in src/cli/verb_<name>.cpp. Errors from the library are caught here once, printed on one
+// line, and turned into a non-zero exit code.
+
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "rbaa/cli/verb.hpp"
+#include "rbaa/error.hpp"
+
+namespace {
+
+void print_overview() {
+  std::cout << "rbaa: rigid body adversarial attacks\n\n"
+               "usage: rbaa <verb> [--flags]      rbaa <verb> --help\n\nverbs:\n";
+  for (const auto& verb : rbaa::cli::registered_verbs()) {
+    std::cout << "  " << verb.name << std::string(12 - std::min<size_t>(11, verb.name.size()), ' ')
+              << verb.summary << "\n";
+  }
+  std::cout << "\nCommon flags: --flagfile=FILE, --v=N (verbose logging), --logtostderr.\n";
+}
+
+void print_verb_help(const rbaa::cli::Verb& verb) {
+  std::cout << "usage: " << verb.usage << "\n\nflags:\n";
+  for (const auto& name : verb.flags) {
+    gflags::CommandLineFlagInfo info;
+    if (!gflags::GetCommandLineFlagInfo(name.c_str(), &info)) continue;
+    std::cout << "  --" << info.name << " (" << info.type << ", default \"" << info.default_value
+              << "\")\n      " << info.description << "\n";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  FLAGS_logtostderr = true;
+  google::InitGoogleLogging(argv[0]);
+  gflags::SetUsageMessage("rbaa <verb> [--flags]; rbaa --help lists the verbs");
+
+  std::vector<char*> args(argv, argv + argc);
+  std::string verb_name;
+  if (args.size() > 1 && args[1][0] != '-') {
+    verb_name = args[1];
+    args.erase(args.begin() + 1);
+  }
+  bool help = false;
+  for (auto it = args.begin() + 1; it != args.end();) {
+    if (!std::strcmp(*it, "--help") || !std::strcmp(*it, "-h") || !std::strcmp(*it, "-help")) {
+      help = true;
+      it = args.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  int new_argc = static_cast<int>(args.size());
+  char** new_argv = args.data();
+  gflags::ParseCommandLineFlags(&new_argc, &new_argv, true);
+  if (new_argc > 1) {
+    std::cerr << "rbaa: unexpected argument '" << new_argv[1] << "' (see rbaa --help)\n";
+    return 2;
+  }
+
+  if (verb_name.empty()) {
+    print_overview();
+    return help ? 0 : 2;
+  }
+  for (const auto& verb : rbaa::cli::registered_verbs()) {
+    if (verb.name != verb_name) continue;
+    if (help) {
+      print_verb_help(verb);
+      return 0;
+    }
+    try {
+      return verb.run();
+    } catch (const rbaa::InputError& e) {
+      std::cerr << "rbaa " << verb_name << ": error: " << e.what() << "\n";
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "rbaa " << verb_name << ": error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "rbaa: unknown verb '" << verb_name << "' (see rbaa --help)\n";
+  return 2;
+}

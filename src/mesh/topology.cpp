@@ -1,0 +1,134 @@
+#include "rbaa/mesh/topology.hpp"
+
+#include <algorithm>
+#include <array>
+#include <sstream>
+
+#include "rbaa/error.hpp"
+
+namespace rbaa {
+namespace {
+
+// Outward-oriented faces of a positively oriented tet, indexed by the opposite local vertex.
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+struct FaceRecord {
+  std::array<int, 3> key;  // sorted vertex indices
+  int element;
+  int local;  // opposite local vertex
+  bool operator<(const FaceRecord& o) const {
+    return std::tie(key, element, local) < std::tie(o.key, o.element, o.local);
+  }
+};
+
+std::vector<FaceRecord> sorted_faces(const TetMesh& mesh) {
+  std::vector<FaceRecord> faces;
+  faces.reserve(4 * static_cast<size_t>(mesh.num_tets()));
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    for (int k = 0; k < 4; ++k) {
+      std::array<int, 3> key = {mesh.T(e, kFace[k][0]), mesh.T(e, kFace[k][1]),
+                                mesh.T(e, kFace[k][2])};
+      std::sort(key.begin(), key.end());
+      faces.push_back({key, e, k});
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+}  // namespace
+
+Tets face_adjacency(const TetMesh& mesh) {
+  Tets adj = Tets::Constant(mesh.num_tets(), 4, -1);
+  const std::vector<FaceRecord> faces = sorted_faces(mesh);
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i > 2) {
+      std::ostringstream msg;
+      msg << "non-manifold tet mesh: face (" << faces[i].key[0] << ", " << faces[i].key[1] << ", "
+          << faces[i].key[2] << ") is shared by " << (j - i) << " tetrahedra";
+      throw InputError(msg.str());
+    }
+    if (j - i == 2) {
+      adj(faces[i].element, faces[i].local) = faces[i + 1].element;
+      adj(faces[i + 1].element, faces[i + 1].local) = faces[i].element;
+    }
+    i = j;
+  }
+  return adj;
+}
+
+Faces boundary_faces(const TetMesh& mesh) {
+  const Tets adj = face_adjacency(mesh);
+  std::vector<std::array<int, 3>> out;
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    for (int k = 0; k < 4; ++k) {
+      if (adj(e, k) < 0) {
+        out.push_back({mesh.T(e, kFace[k][0]), mesh.T(e, kFace[k][1]), mesh.T(e, kFace[k][2])});
+      }
+    }
+  }
+  Faces F(static_cast<Eigen::Index>(out.size()), 3);
+  for (size_t i = 0; i < out.size(); ++i) {
+    for (int c = 0; c < 3; ++c) F(static_cast<Eigen::Index>(i), c) = out[i][c];
+  }
+  return F;
+}
+
+std::vector<int> boundary_vertices(const TetMesh& mesh) {
+  const Faces F = boundary_faces(mesh);
+  std::vector<char> on(mesh.num_vertices(), 0);
+  for (Eigen::Index i = 0; i < F.size(); ++i) on[F.data()[i]] = 1;
+  std::vector<int> out;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (on[v]) out.push_back(v);
+  }
+  return out;
+}
+
+std::vector<char> boundary_elements(const TetMesh& mesh, bool by_vertex) {
+  std::vector<char> flags(mesh.num_tets(), 0);
+  if (by_vertex) {
+    std::vector<char> on(mesh.num_vertices(), 0);
+    for (int v : boundary_vertices(mesh)) on[v] = 1;
+    for (int e = 0; e < mesh.num_tets(); ++e) {
+      for (int k = 0; k < 4; ++k) flags[e] |= on[mesh.T(e, k)];
+    }
+  } else {
+    const Tets adj = face_adjacency(mesh);
+    for (int e = 0; e < mesh.num_tets(); ++e) {
+      for (int k = 0; k < 4; ++k) flags[e] |= (adj(e, k) < 0);
+    }
+  }
+  return flags;
+}
+
+int count_components(const TetMesh& mesh, const std::vector<char>& flags) {
+  const Tets adj = face_adjacency(mesh);
+  const int nt = mesh.num_tets();
+  auto active = [&](int e) { return flags.empty() || flags[e]; };
+  std::vector<char> seen(nt, 0);
+  std::vector<int> stack;
+  int components = 0;
+  for (int s = 0; s < nt; ++s) {
+    if (!active(s) || seen[s]) continue;
+    ++components;
+    seen[s] = 1;
+    stack.push_back(s);
+    while (!stack.empty()) {
+      const int e = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 4; ++k) {
+        const int n = adj(e, k);
+        if (n >= 0 && active(n) && !seen[n]) {
+          seen[n] = 1;
+          stack.push_back(n);
+        }
+      }
+    }
+  }
+  return components;
+}
+
+}  // namespace rbaa

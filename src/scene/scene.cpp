@@ -1,0 +1,339 @@
+#include "rbaa/scene/scene.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "rbaa/error.hpp"
+
+namespace rbaa {
+namespace {
+
+// Reads one YAML mapping against a fixed set of keys: every read names the key it consumes, and
+// finish() rejects whatever was not consumed, so a misspelt key is an error rather than silently
+// ignored. Errors read "FILE:LINE: key 'a.b': what is wrong".
+class MapReader {
+ public:
+  MapReader(YAML::Node node, std::string source, std::string prefix)
+      : node_(std::move(node)), source_(std::move(source)), prefix_(std::move(prefix)) {
+    if (node_ && !node_.IsNull() && !node_.IsMap()) fail(node_, "", "expected a mapping of keys");
+  }
+
+  bool has(const std::string& key) {
+    seen_.insert(key);
+    return node_ && node_.IsMap() && node_[key] && !node_[key].IsNull();
+  }
+
+  YAML::Node child(const std::string& key) {
+    seen_.insert(key);
+    return node_ && node_.IsMap() ? node_[key] : YAML::Node();
+  }
+
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& what) const {
+    std::ostringstream msg;
+    msg << source_;
+    if (at && at.Mark().line >= 0) msg << ":" << at.Mark().line + 1;
+    msg << ": ";
+    if (!key.empty() || !prefix_.empty()) msg << "key '" << full(key) << "': ";
+    msg << what;
+    throw InputError(msg.str());
+  }
+
+  std::string full(const std::string& key) const {
+    if (prefix_.empty()) return key;
+    return key.empty() ? prefix_ : prefix_ + "." + key;
+  }
+
+  double number(const std::string& key, double fallback, double lo, double hi,
+                bool lo_open = false, bool hi_open = false) {
+    if (!has(key)) return fallback;
+    const YAML::Node n = node_[key];
+    return to_number(n, key, lo, hi, lo_open, hi_open);
+  }
+
+  double to_number(const YAML::Node& n, const std::string& key, double lo, double hi, bool lo_open,
+                   bool hi_open) const {
+    if (!n.IsScalar()) fail(n, key, "expected a number");
+    const std::string text = n.Scalar();
+    double value = 0;
+    try {
+      size_t used = 0;
+      value = std::stod(text, &used);
+      if (used != text.size()) throw std::invalid_argument(text);
+    } catch (const std::exception&) {
+      fail(n, key, "expected a number, got '" + text + "'");
+    }
+    if (!std::isfinite(value)) fail(n, key, "value " + text + " is not finite");
+    const bool below = lo_open ? value <= lo : value < lo;
+    const bool above = hi_open ? value >= hi : value > hi;
+    if (below || above) {
+      std::ostringstream range;
+      range << "value " << text << " is outside " << (lo_open ? "(" : "[") << lo << ", " << hi
+            << (hi_open ? ")" : "]");
+      fail(n, key, range.str());
+    }
+    return value;
+  }
+
+  int integer(const std::string& key, int fallback, int lo, int hi) {
+    if (!has(key)) return fallback;
+    const YAML::Node n = node_[key];
+    const double v = to_number(n, key, lo, hi, false, false);
+    if (v != std::floor(v)) fail(n, key, "expected a whole number, got " + n.Scalar());
+    return static_cast<int>(v);
+  }
+
+  std::string text(const std::string& key, const std::string& fallback,
+                   const std::set<std::string>& allowed = {}) {
+    if (!has(key)) return fallback;
+    const YAML::Node n = node_[key];
+    if (!n.IsScalar()) fail(n, key, "expected a string");
+    const std::string value = n.Scalar();
+    if (!allowed.empty() && !allowed.count(value)) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      fail(n, key, "'" + value + "' is not one of: " + list);
+    }
+    return value;
+  }
+
+  Eigen::Vector3d vector3(const std::string& key, const Eigen::Vector3d& fallback) {
+    if (!has(key)) return fallback;
+    const YAML::Node n = node_[key];
+    if (!n.IsSequence() || n.size() != 3) fail(n, key, "expected a list of 3 numbers [x, y, z]");
+    Eigen::Vector3d v;
+    const double inf = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) v[i] = to_number(n[i], key, -inf, inf, false, false);
+    return v;
+  }
+
+  Range range(const std::string& key, const Range& fallback, const Range& limits) {
+    if (!has(key)) return fallback;
+    const YAML::Node n = node_[key];
+    if (!n.IsSequence() || n.size() != 2) fail(n, key, "expected a list [min, max]");
+    Range r{to_number(n[0], key, limits.lo, limits.hi, false, false),
+            to_number(n[1], key, limits.lo, limits.hi, false, false)};
+    if (!(r.lo < r.hi)) fail(n, key, "min must be below max");
+    return r;
+  }
+
+  void finish() const {
+    if (!node_ || !node_.IsMap()) return;
+    for (const auto& kv : node_) {
+      const std::string key = kv.first.as<std::string>();
+      if (!seen_.count(key)) fail(kv.first, key, "unknown key");
+    }
+  }
+
+  const std::string& source() const { return source_; }
+
+ private:
+  YAML::Node node_;
+  std::string source_;
+  std::string prefix_;
+  std::set<std::string> seen_;
+};
+
+std::string resolve(const std::string& path, const std::string& base_dir) {
+  namespace fs = std::filesystem;
+  if (path.empty() || fs::path(path).is_absolute() || base_dir.empty()) return path;
+  return (fs::path(base_dir) / path).lexically_normal().string();
+}
+
+// Applies "a.b.c=value" to the document; the value is parsed as YAML (so lists work).
+void apply_override(YAML::Node& root, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError("--set: expected key.path=value, got '" + assignment + "'");
+  }
+  const std::string path = assignment.substr(0, eq);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    throw InputError("--set " + path + ": cannot parse value: " + e.msg);
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  std::vector<YAML::Node> chain{root};
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node next = chain.back()[parts[i]];
+    if (next && !next.IsNull() && !next.IsMap()) {
+      throw InputError("--set " + path + ": '" + parts[i] + "' is not a mapping");
+    }
+    chain.push_back(next);
+  }
+  chain.back()[parts.back()] = value;
+}
+
+const std::set<std::string> kFields = {"Y", "nu", "rho", "alpha"};
+
+}  // namespace
+
+Scene parse_scene(const std::string& yaml_text, const std::string& source,
+                  const std::string& base_dir, const std::vector<std::string>& overrides) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    std::ostringstream msg;
+    msg << source << ":" << e.mark.line + 1 << ": invalid YAML: " << e.msg;
+    throw InputError(msg.str());
+  }
+  if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  for (const auto& o : overrides) apply_override(root, o);
+
+  const double inf = std::numeric_limits<double>::infinity();
+  Scene s;
+  s.source = source;
+  MapReader top(root, source, "");
+  s.name = top.text("name", std::filesystem::path(source).stem().string());
+
+  {
+    MapReader m(top.child("mesh"), source, "mesh");
+    if (!top.has("mesh")) top.fail(root, "mesh", "missing (give shape, surface or file)");
+    s.mesh.shape = m.text("shape", "", {"sphere", "cube", "star", "bat", "bunny"});
+    s.mesh.surface_file = resolve(m.text("surface", ""), base_dir);
+    s.mesh.mesh_file = resolve(m.text("file", ""), base_dir);
+    const int sources = !s.mesh.shape.empty() + !s.mesh.surface_file.empty() + !s.mesh.mesh_file.empty();
+    if (sources != 1) m.fail(top.child("mesh"), "", "give exactly one of shape, surface, file");
+    s.mesh.target_tets = m.integer("target_tets", 0, 10, 10000000);
+    s.mesh.radius = m.number("radius", 0, 0, inf, true);
+    s.mesh.side = m.number("side", 0, 0, inf, true);
+    s.mesh.volume = m.number("volume", 0, 0, inf, true);
+    m.finish();
+  }
+  {
+    MapReader o(top.child("object"), source, "object");
+    s.position = o.vector3("position", s.position);
+    s.velocity = o.vector3("velocity", s.velocity);
+    s.angular_velocity = o.vector3("angular_velocity", s.angular_velocity);
+    if (o.has("rotation")) {
+      MapReader r(o.child("rotation"), source, "object.rotation");
+      s.rotation_axis = r.vector3("axis", s.rotation_axis);
+      if (!(s.rotation_axis.norm() > 0)) r.fail(o.child("rotation"), "axis", "axis must be non-zero");
+      s.rotation_axis.normalize();
+      s.rotation_angle_deg = r.number("angle_deg", 0, -inf, inf);
+      r.finish();
+    }
+    o.finish();
+  }
+  {
+    MapReader ob(top.child("obstacles"), source, "obstacles");
+    if (ob.has("planes")) {
+      const YAML::Node planes = ob.child("planes");
+      if (!planes.IsSequence()) ob.fail(planes, "planes", "expected a list of planes");
+      for (size_t i = 0; i < planes.size(); ++i) {
+        MapReader p(planes[i], source, "obstacles.planes[" + std::to_string(i) + "]");
+        Plane plane;
+        plane.normal = p.vector3("normal", Eigen::Vector3d::Zero());
+        if (!(plane.normal.norm() > 0)) p.fail(planes[i], "normal", "missing or zero normal");
+        plane.normal.normalize();
+        const bool has_offset = p.has("offset"), has_point = p.has("point");
+        if (has_offset == has_point) p.fail(planes[i], "", "give exactly one of offset, point");
+        plane.offset = has_offset ? p.number("offset", 0, -inf, inf)
+                                  : plane.normal.dot(p.vector3("point", Eigen::Vector3d::Zero()));
+        p.finish();
+        s.planes.push_back(plane);
+      }
+    }
+    ob.finish();
+  }
+  if (top.has("gravity")) {
+    const YAML::Node g = top.child("gravity");
+    if (g.IsScalar() && (g.Scalar() == "off" || g.Scalar() == "false")) {
+      s.gravity.setZero();
+    } else {
+      s.gravity = top.vector3("gravity", s.gravity);
+    }
+  }
+  {
+    MapReader t(top.child("time"), source, "time");
+    s.time_step = t.number("step", s.time_step, 0.0, 1.0, true);
+    s.duration = t.number("duration", s.duration, 0.0, 1e6, true);
+    if (s.duration < s.time_step) t.fail(top.child("time"), "duration", "shorter than one time step");
+    s.integrator = t.text("integrator", "bdf2", {"bdf1", "bdf2"}) == "bdf1" ? Integrator::kBdf1
+                                                                             : Integrator::kBdf2;
+    s.mass = t.text("mass", "consistent", {"consistent", "lumped"}) == "lumped"
+                 ? MassModel::kLumped
+                 : MassModel::kConsistent;
+    t.finish();
+  }
+  {
+    MapReader c(top.child("contact"), source, "contact");
+    s.d_hat = c.number("d_hat", s.d_hat, 0.0, 1.0, true);
+    if (c.has("kappa")) {
+      const YAML::Node k = c.child("kappa");
+      if (k.IsScalar() && k.Scalar() == "auto") s.kappa = 0;
+      else s.kappa = c.number("kappa", 0, 0.0, inf, true);
+    }
+    c.finish();
+  }
+  {
+    MapReader n(top.child("newton"), source, "newton");
+    s.newton_tolerance = n.number("tolerance", s.newton_tolerance, 0.0, 1.0, true);
+    s.newton_max_iterations = n.integer("max_iterations", s.newton_max_iterations, 1, 100000);
+    n.finish();
+  }
+  {
+    MapReader r(top.child("reference_material"), source, "reference_material");
+    s.reference_Y = r.number("Y", s.reference_Y, 0.0, inf, true);
+    s.reference_nu = r.number("nu", s.reference_nu, -1.0, 0.5, true, true);
+    s.reference_rho = r.number("rho", s.reference_rho, 0.0, inf, true);
+    r.finish();
+  }
+  {
+    // Perceptually rigid ranges (SPEC section 1); scenes may narrow them, never widen them.
+    MapReader b(top.child("material_bounds"), source, "material_bounds");
+    s.Y_range = b.range("Y", s.Y_range, {2.5e9, 6.5e11});
+    s.nu_range = b.range("nu", s.nu_range, {0.2, 0.4});
+    s.rho_range = b.range("rho", s.rho_range, {800.0, 11300.0});
+    s.alpha_min = b.number("alpha_min", s.alpha_min, 0.0, 1.0, true, true);
+    b.finish();
+  }
+  {
+    MapReader a(top.child("attack"), source, "attack");
+    if (a.has("fields")) {
+      const YAML::Node f = a.child("fields");
+      if (!f.IsSequence() || f.size() == 0) a.fail(f, "fields", "expected a non-empty list of Y, nu, rho, alpha");
+      s.fields.clear();
+      std::set<std::string> seen;
+      for (const auto& item : f) {
+        const std::string name = item.IsScalar() ? item.Scalar() : "";
+        if (!kFields.count(name)) a.fail(item, "fields", "'" + name + "' is not one of Y, nu, rho, alpha");
+        if (!seen.insert(name).second) a.fail(item, "fields", "'" + name + "' is listed twice");
+        s.fields.push_back(name);
+      }
+    }
+    s.iterations = a.integer("iterations", s.iterations, 0, 1000000);
+    s.learning_rate = a.number("learning_rate", s.learning_rate, 0.0, inf, true);
+    s.beta = a.number("beta", s.beta, 0.0, inf);
+    s.adam_beta1 = a.number("adam_beta1", s.adam_beta1, 0.0, 1.0, false, true);
+    s.adam_beta2 = a.number("adam_beta2", s.adam_beta2, 0.0, 1.0, false, true);
+    s.seed = static_cast<unsigned>(a.integer("seed", static_cast<int>(s.seed), 0, 2147483647));
+    s.perturbation = a.number("perturbation", s.perturbation, 0.0, 10.0);
+    s.alpha0 = a.number("alpha0", s.alpha0, s.alpha_min, 1.0, true, true);
+    s.smoothing_gamma = a.number("smoothing_gamma", s.smoothing_gamma, 0.0, inf);
+    s.boundary_by_vertex = a.text("boundary", "faces", {"faces", "vertices"}) == "vertices";
+    s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);
+    a.finish();
+  }
+  top.finish();
+  return s;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open scene config");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  return parse_scene(buffer.str(), path, base, overrides);
+}
+
+}  // namespace rbaa
