@@ -59,6 +59,10 @@ class MapReader {
                    bool hi_open) const {
     if (!n.IsScalar()) fail(n, key, "expected a number");
     const std::string text = n.Scalar();
+    // YAML spells non-finite floats .nan / .inf; they are as wrong here as nan / inf.
+    static const std::set<std::string> kYamlNonFinite = {".nan", ".NaN", ".NAN", ".inf", ".Inf",
+                                                         ".INF", "+.inf", "-.inf", "-.Inf", "+.Inf"};
+    if (kYamlNonFinite.count(text)) fail(n, key, "value " + text + " is not finite");
     double value = 0;
     try {
       size_t used = 0;

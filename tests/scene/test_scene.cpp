@@ -1,0 +1,116 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "rbaa/error.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
+
+namespace rbaa {
+namespace {
+
+const std::string kConfigs = std::string(RBAA_SOURCE_DIR) + "/configs/";
+
+// Expects an InputError whose one-line message contains every fragment.
+void expect_error(const std::string& yaml, const std::vector<std::string>& fragments,
+                  const std::vector<std::string>& overrides = {}) {
+  try {
+    parse_scene(yaml, "test.yaml", "", overrides);
+    FAIL() << "no error for:\n" << yaml;
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    for (const auto& f : fragments) EXPECT_NE(what.find(f), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+TEST(Scene, ShippedConfigsLoad) {
+  const Scene ball = load_scene(kConfigs + "ball.yaml");
+  EXPECT_EQ(ball.mesh.shape, "sphere");
+  EXPECT_EQ(ball.mesh.target_tets, 9056);
+  ASSERT_EQ(ball.planes.size(), 1u);
+  EXPECT_NEAR(ball.planes[0].normal.y(), -1.0, 0);
+  EXPECT_DOUBLE_EQ(ball.time_step, 0.01);
+  EXPECT_DOUBLE_EQ(ball.gravity.z(), -9.8);
+  EXPECT_EQ(ball.kappa, 0.0);  // auto
+
+  const Scene star = load_scene(kConfigs + "star.yaml");
+  EXPECT_EQ(star.planes.size(), 2u);
+  EXPECT_EQ(star.gravity.norm(), 0.0);
+  EXPECT_NEAR(star.time_step, 1.0 / 30.0, 1e-15);
+  EXPECT_EQ(star.fields, (std::vector<std::string>{"Y", "nu", "rho"}));
+  EXPECT_DOUBLE_EQ(star.Y_range.lo, 5e9);
+
+  const Scene cube = load_scene(kConfigs + "cube.yaml");
+  ASSERT_EQ(cube.planes.size(), 2u);
+  EXPECT_NEAR(cube.planes[1].offset, -0.1, 1e-15);  // ceiling z = 0.1 facing down: -z >= -0.1
+  EXPECT_DOUBLE_EQ(cube.duration, 1.5);
+
+  const Scene bunny = load_scene(kConfigs + "bunny.yaml");
+  EXPECT_EQ(bunny.mesh.shape, "bunny");
+}
+
+TEST(Scene, PlacesTheObjectAtItsInitialPose) {
+  const Scene star = load_scene(kConfigs + "star.yaml");
+  const TetMesh mesh = make_scene_mesh(star);
+  const Eigen::Vector3d c = compute_moments(mesh, 1.0).centre_of_mass();
+  EXPECT_LT((c - star.position).norm(), 1e-12);
+  for (const Plane& p : star.planes) EXPECT_GT((mesh.V * p.normal).minCoeff() - p.offset, star.d_hat);
+}
+
+TEST(Scene, OverridesApplyBeforeValidation) {
+  const Scene s = load_scene(kConfigs + "ball.yaml", {"time.step=0.005", "object.velocity=[0, 1, 2]",
+                                                     "attack.iterations=3", "contact.kappa=1e7"});
+  EXPECT_DOUBLE_EQ(s.time_step, 0.005);
+  EXPECT_DOUBLE_EQ(s.velocity.z(), 2.0);
+  EXPECT_EQ(s.iterations, 3);
+  EXPECT_DOUBLE_EQ(s.kappa, 1e7);
+  EXPECT_THROW(load_scene(kConfigs + "ball.yaml", {"time.stepp=0.1"}), InputError);
+  EXPECT_THROW(load_scene(kConfigs + "ball.yaml", {"no equals sign"}), InputError);
+}
+
+TEST(Scene, StartingInContactIsAnError) {
+  const Scene s = load_scene(kConfigs + "cube.yaml", {"object.position=[0, 0, 0.02]"});
+  try {
+    make_scene_mesh(s);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("intersecting obstacles.planes[0]"), std::string::npos) << e.what();
+  }
+  const Scene touching = load_scene(kConfigs + "cube.yaml", {"object.position=[0, 0, 0.0255]"});
+  EXPECT_THROW(make_scene_mesh(touching), InputError);
+}
+
+const char* kMinimal = "mesh: {shape: cube}\n";
+
+TEST(Scene, BadInputNamesFileLineAndKey) {
+  expect_error(std::string(kMinimal) + "tiem:\n  step: 0.01\n", {"test.yaml:2", "'tiem'", "unknown key"});
+  expect_error(std::string(kMinimal) + "time:\n  step: fast\n", {"test.yaml:3", "time.step", "expected a number"});
+  expect_error(std::string(kMinimal) + "time:\n  step: .nan\n", {"time.step", "not finite"});
+  expect_error(std::string(kMinimal) + "time:\n  step: -0.01\n", {"time.step", "outside"});
+  expect_error(std::string(kMinimal) + "time: {step: 0.1, duration: 0.01}\n", {"time.duration", "shorter"});
+  expect_error(std::string(kMinimal) + "material_bounds: {Y: [1.0e9, 1.0e11]}\n",
+               {"material_bounds.Y", "outside [2.5e+09"});
+  expect_error(std::string(kMinimal) + "material_bounds: {nu: [0.3, 0.25]}\n", {"material_bounds.nu", "below max"});
+  expect_error(std::string(kMinimal) + "object: {velocity: [1, 2]}\n", {"object.velocity", "3 numbers"});
+  expect_error(std::string(kMinimal) + "obstacles: {planes: [{normal: [0, 0, 0], offset: 0}]}\n",
+               {"obstacles.planes[0].normal"});
+  expect_error(std::string(kMinimal) + "obstacles: {planes: [{normal: [0, 0, 1]}]}\n",
+               {"obstacles.planes[0]", "exactly one of offset, point"});
+  expect_error(std::string(kMinimal) + "attack: {fields: [Y, E]}\n", {"attack.fields", "'E'"});
+  expect_error(std::string(kMinimal) + "time: {integrator: rk4}\n", {"time.integrator", "'rk4'"});
+  expect_error(std::string(kMinimal) + "newton: {max_iterations: 2.5}\n", {"newton.max_iterations", "whole number"});
+  expect_error("mesh: {shape: cube, file: a.msh}\n", {"mesh", "exactly one of shape, surface, file"});
+  expect_error("time: {step: 0.01}\n", {"mesh", "missing"});
+  expect_error("mesh: [1, 2\n", {"test.yaml", "invalid YAML"});
+  expect_error(kMinimal, {"--set", "key.path=value"}, {"oops"});
+}
+
+TEST(Scene, MissingFileIsAnError) {
+  EXPECT_THROW(load_scene("/nonexistent/scene.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace rbaa
