@@ -1,0 +1,48 @@
+#pragma once
+// Rigid-body view of a tet mesh with a material field: what every rigid-body simulator sees
+// (mass, centre of mass, principal inertia) and the collision shape. Built from the object's own
+// moments, never copied from another object's.
+
+#include <Eigen/Core>
+
+#include <string>
+
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+
+namespace rbaa {
+
+/// Mass properties in principal form: I_centre = axes diag(principal_moments) axes^T.
+struct RigidMassProperties {
+  double mass = 0;                                   ///< m0 (kg)
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< m1 / m0 in the mesh frame (m)
+  Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();      ///< ascending (kg m^2)
+  Eigen::Matrix3d principal_axes = Eigen::Matrix3d::Identity();     ///< columns, det = +1
+};
+
+/// Mass, centre, and the eigen-decomposition of m2 moved to the centre (parallel-axis shift).
+RigidMassProperties rigid_mass_properties(const Moments& moments);
+
+/// The collision shape handed to the rigid simulator.
+enum class RigidShapeKind { kSphere, kBox, kConvexHull };
+
+struct RigidShape {
+  RigidShapeKind kind = RigidShapeKind::kConvexHull;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< sphere/box centre, mesh frame (m)
+  double radius = 0;                                 ///< sphere (m)
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  ///< axis-aligned box (m)
+  Vertices points;  ///< convex hull: the surface vertices, mesh frame (#P by 3)
+
+  std::string describe() const;
+};
+
+/// Chooses the collision shape from the surface: an analytic sphere when every surface vertex
+/// lies on one sphere within `sphere_tolerance` of the size (a meshed sphere's vertices sit on
+/// facets of the polyhedron CGAL was given, ~1e-4 inside), an analytic box when the surface is an
+/// axis-aligned box (within `box_tolerance`), otherwise the convex hull of the surface vertices. Against
+/// half-space obstacles the hull is exact: a plane first touches a body at a hull vertex. Obstacle
+/// meshes (rim, bin) will need a concave GImpact shape instead.
+RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance = 1e-3,
+                                    double box_tolerance = 1e-9);
+
+}  // namespace rbaa

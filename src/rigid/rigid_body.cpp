@@ -1,0 +1,87 @@
+#include "rbaa/rigid/rigid_body.hpp"
+
+#include <Eigen/Dense>
+
+#include <sstream>
+
+#include "rbaa/mesh/topology.hpp"
+
+namespace rbaa {
+
+RigidMassProperties rigid_mass_properties(const Moments& moments) {
+  RigidMassProperties p;
+  p.mass = moments.m0;
+  p.centre = moments.centre_of_mass();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(moments.inertia_about_centre());
+  p.principal_moments = eig.eigenvalues();
+  p.principal_axes = eig.eigenvectors();
+  if (p.principal_axes.determinant() < 0) p.principal_axes.col(2) *= -1.0;
+  return p;
+}
+
+std::string RigidShape::describe() const {
+  std::ostringstream out;
+  switch (kind) {
+    case RigidShapeKind::kSphere:
+      out << "analytic sphere, radius " << radius << " m";
+      break;
+    case RigidShapeKind::kBox:
+      out << "analytic box, half extents (" << half_extents.transpose() << ") m";
+      break;
+    case RigidShapeKind::kConvexHull:
+      out << "convex hull of " << points.rows() << " surface vertices";
+      break;
+  }
+  return out.str();
+}
+
+RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance, double box_tolerance) {
+  const std::vector<int> surface = boundary_vertices(mesh);
+  Vertices P(static_cast<Eigen::Index>(surface.size()), 3);
+  for (size_t i = 0; i < surface.size(); ++i) P.row(static_cast<Eigen::Index>(i)) = mesh.V.row(surface[i]);
+  const Eigen::RowVector3d lo = P.colwise().minCoeff(), hi = P.colwise().maxCoeff();
+  const double size = (hi - lo).norm();
+  RigidShape shape;
+
+  // Sphere: the least-squares sphere |x|^2 = 2 c.x + k through the surface vertices, accepted
+  // when every vertex lies on it.
+  Eigen::MatrixXd A(P.rows(), 4);
+  A << 2 * P, Eigen::VectorXd::Ones(P.rows());
+  const Eigen::VectorXd b = P.rowwise().squaredNorm();
+  const Eigen::Vector4d fit = A.colPivHouseholderQr().solve(b);
+  const Eigen::RowVector3d centre = fit.head<3>().transpose();
+  const double radius2 = fit[3] + centre.squaredNorm();
+  if (radius2 > 0) {
+    const Eigen::VectorXd r = (P.rowwise() - centre).rowwise().norm();
+    if (r.maxCoeff() - r.minCoeff() <= sphere_tolerance * size) {
+      shape.kind = RigidShapeKind::kSphere;
+      shape.centre = centre.transpose();
+      shape.radius = r.mean();
+      return shape;
+    }
+  }
+  const Eigen::RowVector3d mid = (lo + hi) / 2;
+  const double tol = box_tolerance * size;
+  // Box: every surface vertex on a face of its bounding box, and the box's corners present.
+  bool on_faces = true;
+  for (Eigen::Index i = 0; i < P.rows() && on_faces; ++i) {
+    const Eigen::RowVector3d d = (P.row(i) - lo).cwiseAbs().cwiseMin((P.row(i) - hi).cwiseAbs());
+    on_faces = d.minCoeff() <= tol;
+  }
+  int corners = 0;
+  for (int c = 0; c < 8 && on_faces; ++c) {
+    const Eigen::RowVector3d corner((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]);
+    corners += ((P.rowwise() - corner).rowwise().norm().minCoeff() <= tol);
+  }
+  if (on_faces && corners == 8) {
+    shape.kind = RigidShapeKind::kBox;
+    shape.centre = mid.transpose();
+    shape.half_extents = ((hi - lo) / 2).transpose();
+    return shape;
+  }
+  shape.kind = RigidShapeKind::kConvexHull;
+  shape.points = P;
+  return shape;
+}
+
+}  // namespace rbaa
