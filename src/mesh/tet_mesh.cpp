@@ -87,7 +87,7 @@ double bounding_box_diagonal(const TetMesh& mesh) {
   return (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
 }
 
-RestShape compute_rest_shape(const TetMesh& mesh) {
+RestShape compute_rest_shape(const TetMesh& mesh, const std::string& source) {
   RestShape rest;
   const int nt = mesh.num_tets();
   rest.Dm_inv.resize(nt);
@@ -99,7 +99,7 @@ RestShape compute_rest_shape(const TetMesh& mesh) {
     const double det = Dm.determinant();
     if (!(det > 0)) {
       std::ostringstream msg;
-      msg << "tet " << e << " is " << (det < 0 ? "inverted" : "degenerate") << " (volume "
+      msg << source << ": tet " << e << " is " << (det < 0 ? "inverted" : "degenerate") << " (volume "
           << det / 6.0 << " m^3)";
       throw InputError(msg.str());
     }

@@ -52,7 +52,8 @@ struct RestShape {
   Eigen::VectorXd volume;               ///< #T rest volumes (positive)
 };
 
-/// Precomputes Dm^-1 and volumes; throws rbaa::InputError on an inverted or degenerate tet.
-RestShape compute_rest_shape(const TetMesh& mesh);
+/// Precomputes Dm^-1 and volumes; throws rbaa::InputError naming `source` on an inverted or
+/// degenerate tet.
+RestShape compute_rest_shape(const TetMesh& mesh, const std::string& source = "mesh");
 
 }  // namespace rbaa
