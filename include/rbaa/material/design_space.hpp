@@ -1,0 +1,128 @@
+#pragma once
+// The parameterisation layer between the optimiser and the simulator (SPEC section 4): a design
+// vector theta of unconstrained variables maps, through one tanh box map per field, to a
+// MaterialField; a material-space gradient (dC/dY, dC/dnu, dC/drho, dC/dalpha per element) chains
+// back to dC/dtheta. Only this class knows the layout of theta.
+//
+// Layout of theta: the chosen fields' blocks in the fixed order Y, nu, rho, alpha. Y, nu and rho
+// have one entry per element (#T); alpha has one entry per interior element (#interior, in
+// increasing element order). Boundary elements (a boundary face, or with boundary_by_vertex any
+// boundary vertex) keep alpha = 1 and are not in theta. Fields that are not optimised keep their
+// initial values.
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "rbaa/material/material_field.hpp"
+#include "rbaa/material/tanh_box_map.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+
+namespace rbaa {
+
+struct Scene;
+
+enum class DesignField { kY = 0, kNu = 1, kRho = 2, kAlpha = 3 };
+
+/// "Y", "nu", "rho", "alpha".
+const char* design_field_name(DesignField field);
+/// Inverse of design_field_name; throws rbaa::InputError naming the value on an unknown name.
+DesignField parse_design_field(const std::string& name);
+
+struct DesignSpaceOptions {
+  /// Optimised fields (any order, no duplicates); the layout of theta is always Y, nu, rho, alpha.
+  std::vector<DesignField> fields{DesignField::kY, DesignField::kNu, DesignField::kRho,
+                                  DesignField::kAlpha};
+  double Y_min = 2.5e9, Y_max = 6.5e11;   ///< Pa
+  double nu_min = 0.2, nu_max = 0.4;
+  double rho_min = 800.0, rho_max = 11300.0;  ///< kg/m^3
+  double alpha_min = 1e-3;                    ///< alpha lives in [alpha_min, 1]
+
+  /// Initial values; NaN means the middle of the range (Y, nu).
+  double Y0 = std::numeric_limits<double>::quiet_NaN();
+  double nu0 = std::numeric_limits<double>::quiet_NaN();
+  /// The reference's uniform density: initial rho alpha equals it everywhere (kg/m^3).
+  double reference_rho = 2500.0;
+  /// Initial interior occupancy when alpha is optimised (rho_0 = reference_rho / alpha0 there).
+  double alpha0 = 0.99;
+
+  bool boundary_by_vertex = false;
+  std::uint64_t seed = 1;
+  double perturbation = 0.1;  ///< standard deviation of the Gaussian perturbation of theta_0
+
+  /// The attack section of a scene: ranges, fields, alpha0, seed, perturbation, boundary rule.
+  static DesignSpaceOptions from_scene(const Scene& scene);
+};
+
+/// Material-space gradient dC/dY, dC/dnu, dC/drho, dC/dalpha, each #T (an empty vector means zero).
+struct MaterialGradient {
+  Eigen::VectorXd Y, nu, rho, alpha;
+};
+
+class DesignSpace {
+ public:
+  /// Throws rbaa::InputError when an option is out of range (initial values must lie strictly
+  /// inside their ranges, since the tanh map reaches the ends only at infinity).
+  DesignSpace(const TetMesh& mesh, const DesignSpaceOptions& options);
+
+  const DesignSpaceOptions& options() const { return options_; }
+  int num_tets() const { return num_tets_; }
+  /// Length of theta.
+  int size() const { return size_; }
+
+  bool optimises(DesignField field) const { return offset_[index(field)] >= 0; }
+  /// First entry of the field's block in theta, or -1 when the field is not optimised.
+  int offset(DesignField field) const { return offset_[index(field)]; }
+  /// #T for Y, nu, rho; #interior for alpha; 0 when not optimised.
+  int block_size(DesignField field) const { return block_size_[index(field)]; }
+  const TanhBoxMap& map(DesignField field) const { return maps_[index(field)]; }
+
+  /// #T flags of the elements whose alpha is fixed at 1.
+  const std::vector<char>& boundary() const { return boundary_; }
+  /// #interior element indices, increasing: entry i of the alpha block belongs to interior()[i].
+  const std::vector<int>& interior() const { return interior_; }
+  int num_interior() const { return static_cast<int>(interior_.size()); }
+
+  /// The unperturbed initial material (SPEC section 4): Y0, nu0; alpha = alpha0 on interior
+  /// elements when alpha is optimised (else 1) and 1 on boundary elements; rho alpha =
+  /// reference_rho everywhere. Fields not in theta keep these values in to_material.
+  const MaterialField& initial_material() const { return initial_; }
+
+  /// theta of initial_material() plus, with perturb, N(0, perturbation^2) per entry drawn from
+  /// std::mt19937_64(seed) through a Box-Muller transform in theta's order (the same on every
+  /// platform, unlike std::normal_distribution).
+  Eigen::VectorXd initial_theta(bool perturb = true) const;
+
+  /// The material field of theta (size()).
+  MaterialField to_material(const Eigen::VectorXd& theta) const;
+
+  /// theta of a material field whose optimised values lie strictly inside their ranges (for
+  /// restarts); throws rbaa::InputError naming the element otherwise.
+  Eigen::VectorXd to_theta(const MaterialField& field) const;
+
+  /// dx/dtheta per entry of theta (size()): the diagonal Jacobian of the box maps.
+  Eigen::VectorXd map_derivative(const Eigen::VectorXd& theta) const;
+
+  /// dC/dtheta (size()) from dC/d(material): per entry dC/dx_e dx_e/dtheta_e. Gradients of
+  /// fields that are not optimised, and of boundary elements' alpha, are dropped.
+  Eigen::VectorXd chain_gradient(const Eigen::VectorXd& theta, const MaterialGradient& g) const;
+
+ private:
+  static int index(DesignField f) { return static_cast<int>(f); }
+  void check_theta(const Eigen::VectorXd& theta) const;
+
+  DesignSpaceOptions options_;
+  int num_tets_ = 0;
+  int size_ = 0;
+  int offset_[4] = {-1, -1, -1, -1};
+  int block_size_[4] = {0, 0, 0, 0};
+  TanhBoxMap maps_[4];
+  std::vector<char> boundary_;
+  std::vector<int> interior_;
+  MaterialField initial_;
+};
+
+}  // namespace rbaa
