@@ -13,7 +13,7 @@
 DEFINE_string(shape, "", "reference shape: sphere, cube, star, bat or bunny (SPEC section 7)");
 DEFINE_string(surface, "", "closed surface file to tetrahedralise (.off, .obj, .stl, .ply)");
 DEFINE_int32(target_tets, 0, "wanted number of tets (0: the paper's count for --shape, 5000 for --surface)");
-DEFINE_string(out, "", "output tet mesh (.msh Gmsh 4.1, .mesh MEDIT, .node/.ele TetGen)");
+DECLARE_string(out);
 DEFINE_double(radius, 0, "sphere radius in m (0: 0.121)");
 DEFINE_double(side, 0, "cube side in m (0: 0.05)");
 DEFINE_double(volume, 0, "with --surface: scale the tet mesh to this volume (m^3) and centre it (0: keep)");

@@ -12,8 +12,7 @@
 #include "rbaa/io/tet_mesh_file.hpp"
 
 DEFINE_string(mesh, "", "tet mesh file (.msh, .mesh, .node/.ele)");
-DEFINE_string(materials, "", "per-element materials (CSV with Y,nu,rho,alpha columns or an rbaa .msh); "
-                             "default: uniform --density");
+DECLARE_string(materials);  // default: uniform --density
 DEFINE_double(density, 2500.0, "uniform density in kg/m^3 when no --materials is given");
 
 namespace {

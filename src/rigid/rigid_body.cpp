@@ -35,8 +35,39 @@ std::string RigidShape::describe() const {
   return out.str();
 }
 
+namespace {
+
+// Vertices of the outer boundary only: an adversarial object with void elements removed has
+// cavity surfaces too, which the collision shape must not see. The outer shell is the
+// vertex-connected component of boundary faces that holds the vertex of largest x.
+std::vector<int> outer_surface_vertices(const TetMesh& mesh) {
+  const Faces F = boundary_faces(mesh);
+  std::vector<int> parent(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) parent[v] = v;
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    for (int c = 1; c < 3; ++c) parent[find(F(f, c))] = find(F(f, 0));
+  }
+  std::vector<char> on(mesh.num_vertices(), 0);
+  for (Eigen::Index i = 0; i < F.size(); ++i) on[F.data()[i]] = 1;
+  int extreme = -1;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (on[v] && (extreme < 0 || mesh.V(v, 0) > mesh.V(extreme, 0))) extreme = v;
+  }
+  std::vector<int> out;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (on[v] && find(v) == find(extreme)) out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
 RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance, double box_tolerance) {
-  const std::vector<int> surface = boundary_vertices(mesh);
+  const std::vector<int> surface = outer_surface_vertices(mesh);
   Vertices P(static_cast<Eigen::Index>(surface.size()), 3);
   for (size_t i = 0; i < surface.size(); ++i) P.row(static_cast<Eigen::Index>(i)) = mesh.V.row(surface[i]);
   const Eigen::RowVector3d lo = P.colwise().minCoeff(), hi = P.colwise().maxCoeff();
