@@ -1,0 +1,88 @@
+#pragma once
+// The attack's optimisation loop: Adam on theta for C = C_traj(theta) + beta ||r(theta)||^2,
+// with the occupancy gradient smoothed, an atomic checkpoint after every iteration and exact
+// resumption from it.
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rbaa/geometry/smoothing.hpp"
+#include "rbaa/material/design_space.hpp"
+#include "rbaa/opt/adam.hpp"
+#include "rbaa/opt/moment_cost.hpp"
+
+namespace rbaa {
+
+/// One evaluation of the trajectory term at theta.
+struct TrajectoryTermValue {
+  double value = 0;      ///< C_traj (normalised, dimensionless)
+  double gap = 0;        ///< sqrt(||q_adv(T) - q_ref(T)||^2_Mref / m0_ref) (m)
+  double com_gap = 0;    ///< centre-of-mass distance at T (m)
+  double forward_seconds = 0;
+  double adjoint_seconds = 0;
+};
+
+/// theta -> C_traj and, when gradient is not null, dC_traj/dtheta (forward + adjoint).
+using TrajectoryTerm = std::function<TrajectoryTermValue(const Eigen::VectorXd& theta,
+                                                         Eigen::VectorXd* gradient)>;
+
+/// One row of progress.csv: the state *before* the iteration's Adam step.
+struct ProgressRow {
+  int iteration = 0;
+  double objective = 0;
+  double trajectory_term = 0;
+  double moment_term = 0;
+  double gap = 0;           ///< m
+  double com_gap = 0;       ///< m
+  double max_moment_residual = 0;  ///< max normalised |r|
+  double seconds = 0;       ///< wall time of the iteration
+};
+
+/// Everything needed to continue a run exactly where it stopped.
+struct AttackCheckpoint {
+  std::string fingerprint;  ///< identifies the scene and settings the run belongs to
+  int iteration = 0;        ///< iterations completed
+  Eigen::VectorXd theta;
+  AdamState adam;
+  std::vector<ProgressRow> progress;
+  double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
+};
+
+/// Writes the checkpoint atomically (write, then rename), doubles exactly.
+void save_checkpoint(const std::string& path, const AttackCheckpoint& checkpoint);
+/// Reads a checkpoint; throws rbaa::InputError naming the file when it is malformed or its
+/// fingerprint differs from `expected_fingerprint` (another scene or other settings).
+AttackCheckpoint load_checkpoint(const std::string& path, const std::string& expected_fingerprint,
+                                 int expected_size);
+
+/// progress.csv with a header and one row per iteration, written atomically.
+void write_progress_csv(const std::string& path, const std::vector<ProgressRow>& rows);
+
+struct AttackLoopOptions {
+  int iterations = 50;
+  double beta = 1e4;
+  AdamOptions adam;
+  std::string checkpoint_path;  ///< empty: no checkpoints
+  std::string progress_path;    ///< empty: no progress.csv
+  std::string fingerprint;
+  bool resume = false;          ///< continue from checkpoint_path if it exists
+  /// Called after every iteration with its row and the number of iterations in all.
+  std::function<void(const ProgressRow&, int)> on_iteration;
+};
+
+struct AttackLoopResult {
+  Eigen::VectorXd theta;  ///< after the last step
+  std::vector<ProgressRow> progress;
+  int resumed_from = 0;   ///< iterations loaded from the checkpoint
+  double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
+};
+
+/// Runs the loop from theta0 (or the checkpoint). `smoother` may be null (no occupancy field).
+AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunction& moments,
+                                 const GradientSmoother* smoother, const TrajectoryTerm& trajectory,
+                                 const Eigen::VectorXd& theta0, const AttackLoopOptions& options);
+
+}  // namespace rbaa

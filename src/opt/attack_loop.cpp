@@ -1,0 +1,146 @@
+#include "rbaa/opt/attack_loop.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include "rbaa/error.hpp"
+#include "rbaa/io/atomic_file.hpp"
+#include "rbaa/io/number_text.hpp"
+#include "rbaa/opt/smoothed_gradient.hpp"
+
+namespace rbaa {
+namespace {
+
+nlohmann::json to_json(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+
+Eigen::VectorXd vector_from(const nlohmann::json& j) {
+  const std::vector<double> v = j.get<std::vector<double>>();
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+const char* kProgressColumns[] = {"iteration", "objective", "trajectory_term", "moment_term", "gap_m",
+                                  "com_gap_m", "max_moment_residual", "seconds"};
+
+}  // namespace
+
+void save_checkpoint(const std::string& path, const AttackCheckpoint& c) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& r : c.progress) {
+    rows.push_back({r.iteration, r.objective, r.trajectory_term, r.moment_term, r.gap, r.com_gap,
+                    r.max_moment_residual, r.seconds});
+  }
+  const nlohmann::json j = {{"format", "rbaa-attack-checkpoint-1"},
+                            {"fingerprint", c.fingerprint},
+                            {"iteration", c.iteration},
+                            {"theta", to_json(c.theta)},
+                            {"adam", {{"m", to_json(c.adam.m)}, {"v", to_json(c.adam.v)}, {"steps", c.adam.steps}}},
+                            {"progress", rows},
+                            {"forward_seconds", c.forward_seconds},
+                            {"adjoint_seconds", c.adjoint_seconds},
+                            {"elapsed_seconds", c.elapsed_seconds}};
+  // nlohmann writes the shortest decimal that reads back to the same double.
+  write_file_atomically(path, [&](std::ostream& out) { out << j.dump() << "\n"; });
+}
+
+AttackCheckpoint load_checkpoint(const std::string& path, const std::string& expected_fingerprint,
+                                 int expected_size) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open checkpoint");
+  AttackCheckpoint c;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.at("format") != "rbaa-attack-checkpoint-1") throw InputError(path + ": not an rbaa attack checkpoint");
+    c.fingerprint = j.at("fingerprint").get<std::string>();
+    c.iteration = j.at("iteration").get<int>();
+    c.theta = vector_from(j.at("theta"));
+    c.adam.m = vector_from(j.at("adam").at("m"));
+    c.adam.v = vector_from(j.at("adam").at("v"));
+    c.adam.steps = j.at("adam").at("steps").get<std::int64_t>();
+    for (const auto& r : j.at("progress")) {
+      c.progress.push_back({r.at(0).get<int>(), r.at(1).get<double>(), r.at(2).get<double>(), r.at(3).get<double>(),
+                            r.at(4).get<double>(), r.at(5).get<double>(), r.at(6).get<double>(), r.at(7).get<double>()});
+    }
+    c.forward_seconds = j.at("forward_seconds").get<double>();
+    c.adjoint_seconds = j.at("adjoint_seconds").get<double>();
+    c.elapsed_seconds = j.at("elapsed_seconds").get<double>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": malformed checkpoint (" + e.what() + ")");
+  }
+  if (c.fingerprint != expected_fingerprint) {
+    throw InputError(path + ": checkpoint belongs to another scene or other settings (fingerprint " +
+                     c.fingerprint + ", expected " + expected_fingerprint + "); remove it or drop --resume");
+  }
+  if (c.theta.size() != expected_size || (c.adam.m.size() != 0 && c.adam.m.size() != expected_size) ||
+      c.adam.v.size() != c.adam.m.size() || static_cast<int>(c.progress.size()) != c.iteration) {
+    throw InputError(path + ": checkpoint does not fit this design (sizes differ)");
+  }
+  return c;
+}
+
+void write_progress_csv(const std::string& path, const std::vector<ProgressRow>& rows) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    for (size_t i = 0; i < std::size(kProgressColumns); ++i) out << (i ? "," : "") << kProgressColumns[i];
+    out << "\n";
+    for (const auto& r : rows) {
+      out << r.iteration << ',' << exact(r.objective) << ',' << exact(r.trajectory_term) << ','
+          << exact(r.moment_term) << ',' << exact(r.gap) << ',' << exact(r.com_gap) << ','
+          << exact(r.max_moment_residual) << ',' << exact(r.seconds) << "\n";
+    }
+  });
+}
+
+AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunction& moments,
+                                 const GradientSmoother* smoother, const TrajectoryTerm& trajectory,
+                                 const Eigen::VectorXd& theta0, const AttackLoopOptions& options) {
+  AttackLoopResult result;
+  Adam adam(options.adam);
+  Eigen::VectorXd theta = theta0;
+  int start = 0;
+  if (options.resume && !options.checkpoint_path.empty() && std::filesystem::exists(options.checkpoint_path)) {
+    AttackCheckpoint c = load_checkpoint(options.checkpoint_path, options.fingerprint, design.size());
+    theta = c.theta;
+    if (c.adam.steps > 0) adam.restore(c.adam);
+    result.progress = c.progress;
+    result.forward_seconds = c.forward_seconds;
+    result.adjoint_seconds = c.adjoint_seconds;
+    result.elapsed_seconds = c.elapsed_seconds;
+    start = result.resumed_from = c.iteration;
+  }
+  for (int k = start; k < options.iterations; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Eigen::VectorXd grad_traj, grad_moment;
+    const TrajectoryTermValue traj = trajectory(theta, &grad_traj);
+    const double moment_term = moments.penalty(theta, options.beta, &grad_moment);
+    Eigen::VectorXd gradient = grad_traj + grad_moment;
+    // The smoothing acts on the whole occupancy gradient (SPEC section 4).
+    if (smoother && design.optimises(DesignField::kAlpha)) smooth_alpha_gradient(design, *smoother, gradient);
+    ProgressRow row;
+    row.iteration = k;
+    row.trajectory_term = traj.value;
+    row.moment_term = moment_term;
+    row.objective = traj.value + moment_term;
+    row.gap = traj.gap;
+    row.com_gap = traj.com_gap;
+    row.max_moment_residual = moments.residuals(theta).cwiseAbs().maxCoeff();
+    adam.step(theta, gradient);
+    row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.progress.push_back(row);
+    result.forward_seconds += traj.forward_seconds;
+    result.adjoint_seconds += traj.adjoint_seconds;
+    result.elapsed_seconds += row.seconds;
+    if (!options.checkpoint_path.empty()) {
+      save_checkpoint(options.checkpoint_path,
+                      {options.fingerprint, k + 1, theta, adam.state(), result.progress,
+                       result.forward_seconds, result.adjoint_seconds, result.elapsed_seconds});
+    }
+    if (!options.progress_path.empty()) write_progress_csv(options.progress_path, result.progress);
+    if (options.on_iteration) options.on_iteration(row, options.iterations);
+  }
+  result.theta = theta;
+  return result;
+}
+
+}  // namespace rbaa

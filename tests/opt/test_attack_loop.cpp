@@ -1,0 +1,126 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "rbaa/error.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/mesh/grid_mesh.hpp"
+#include "rbaa/mesh/topology.hpp"
+#include "rbaa/opt/attack_loop.hpp"
+#include "rbaa/opt/post_process.hpp"
+
+namespace rbaa {
+namespace {
+
+class AttackLoop : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = ::testing::TempDir() + "/rbaa_attack_loop_" + std::to_string(::getpid());
+    std::filesystem::create_directories(dir_);
+    mesh_ = box_tet_mesh({0, 0, 0}, {0.3, 0.2, 0.25}, 4, 3, 3);
+    design_ = std::make_unique<DesignSpace>(mesh_, DesignSpaceOptions{});
+    reference_ = compute_moments(mesh_, 2500.0);
+    moments_ = std::make_unique<MomentCostFunction>(mesh_, *design_, reference_);
+    smoother_ = std::make_unique<GradientSmoother>(mesh_, 1.0);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  // A stand-in for the simulation: a smooth function of the material field that prefers
+  // stiffness contrast and low occupancy, with an exact gradient.
+  TrajectoryTerm fake_term() const {
+    return [this](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+      const Eigen::VectorXd d = theta - Eigen::VectorXd::LinSpaced(theta.size(), -1, 1);
+      if (gradient) *gradient = -2e-3 * d;
+      return TrajectoryTermValue{-1e-3 * d.squaredNorm(), std::sqrt(1e-3 * d.squaredNorm()), 0.0, 0.0, 0.0};
+    };
+  }
+
+  AttackLoopOptions options(int iterations) const {
+    AttackLoopOptions o;
+    o.iterations = iterations;
+    o.checkpoint_path = dir_ + "/checkpoint.json";
+    o.progress_path = dir_ + "/progress.csv";
+    o.fingerprint = "test-1";
+    return o;
+  }
+
+  std::string dir_;
+  TetMesh mesh_;
+  std::unique_ptr<DesignSpace> design_;
+  Moments reference_;
+  std::unique_ptr<MomentCostFunction> moments_;
+  std::unique_ptr<GradientSmoother> smoother_;
+};
+
+TEST_F(AttackLoop, ResumedRunEqualsUninterruptedRun) {
+  const Eigen::VectorXd theta0 = design_->initial_theta();
+  const AttackLoopResult straight = run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, options(8));
+  std::filesystem::remove(dir_ + "/checkpoint.json");
+
+  run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, options(3));  // "killed" after 3
+  AttackLoopOptions resume = options(8);
+  resume.resume = true;
+  const AttackLoopResult resumed = run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, resume);
+  EXPECT_EQ(resumed.resumed_from, 3);
+  ASSERT_EQ(resumed.progress.size(), 8u);
+  EXPECT_TRUE(resumed.theta == straight.theta);  // bit for bit
+  for (size_t i = 0; i < 8; ++i) EXPECT_EQ(resumed.progress[i].objective, straight.progress[i].objective);
+  // Adam did move theta (the comparison above is not between two untouched vectors).
+  EXPECT_GT((straight.theta - theta0).norm(), 0.1);
+  std::ifstream csv(dir_ + "/progress.csv");
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, 9);
+}
+
+TEST_F(AttackLoop, IncompatibleCheckpointIsAClearError) {
+  const Eigen::VectorXd theta0 = design_->initial_theta();
+  run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, options(2));
+  AttackLoopOptions other = options(4);
+  other.resume = true;
+  other.fingerprint = "another scene";
+  try {
+    run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, other);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("checkpoint.json"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir_ + "/checkpoint.json") << "{\"format\": 3";
+  AttackLoopOptions broken = options(4);
+  broken.resume = true;
+  EXPECT_THROW(run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, broken), InputError);
+}
+
+TEST(PostProcess, RoundsRepairsRefitsAndRemovesVoids) {
+  const TetMesh mesh = box_tet_mesh({-0.2, -0.1, 0.3}, {0.2, 0.1, 0.6}, 6, 4, 5);
+  DesignSpaceOptions o;
+  o.boundary_by_vertex = true;
+  const DesignSpace design(mesh, o);
+  const Moments reference = compute_moments(mesh, 2500.0);
+  MaterialField field = design.to_material(design.initial_theta());
+  // A random occupancy and density: rounding and connectivity repair have work to do.
+  std::srand(5);
+  for (int e : design.interior()) field.alpha[e] = 0.5 + 0.5 * Eigen::VectorXd::Random(1)[0];
+  field.rho = (Eigen::ArrayXd::Random(mesh.num_tets()) * 2000 + 4000).matrix();
+  const PostProcessResult r = post_process(mesh, design, field, reference, 0.5);
+  EXPECT_EQ(r.connectivity.components_after, 1);
+  EXPECT_GT(r.void_fraction, 0.0);
+  EXPECT_LE(r.refit.max_residual, 1e-10);
+  const MomentVector scale = moment_normalisation(reference);
+  const MomentVector m = compute_moments(mesh, r.rounded.effective_density()).as_vector();
+  EXPECT_LE(((m - reference.as_vector()).array() / scale.array()).abs().maxCoeff(), 1e-10);
+  // The solid keeps exactly the occupied elements, and its moments are the same.
+  int occupied = 0;
+  for (int e = 0; e < mesh.num_tets(); ++e) occupied += r.rounded.alpha[e] > 0;
+  EXPECT_EQ(r.solid.mesh.num_tets(), occupied);
+  EXPECT_NO_THROW(validate_tet_mesh(r.solid.mesh, "solid"));
+  const MomentVector ms = compute_moments(r.solid.mesh, r.solid.materials.effective_density()).as_vector();
+  EXPECT_LE(((ms - reference.as_vector()).array() / scale.array()).abs().maxCoeff(), 1e-10);
+  EXPECT_EQ(count_components(r.solid.mesh), 1);
+}
+
+}  // namespace
+}  // namespace rbaa
