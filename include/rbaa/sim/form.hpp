@@ -1,0 +1,49 @@
+#pragma once
+// A form is one energy term of a time step's incremental potential (inertia, elasticity, gravity,
+// contact): value, gradient and Hessian behind one interface, summed with weights by the
+// IncrementalPotential. Besides derivatives every form answers max_step_size and is_step_valid,
+// so the line search asks the forms (the contact form runs CCD) instead of knowing about contact
+// (the PolyFEM design, STYLE.md). Forms are forward-only; parameter derivatives for the adjoint
+// live beside them (the elastic form exposes its per-element split into mu and lambda parts).
+
+#include <Eigen/Core>
+
+#include "rbaa/sim/sparse_hessian.hpp"
+
+namespace rbaa {
+
+/// Which Hessian a form assembles: the exact one, or its PSD projection (per element / pair).
+enum class HessianKind { kExact, kProjected };
+
+class Form {
+ public:
+  virtual ~Form() = default;
+
+  /// Short name for reports and errors ("elastic", "contact", ...).
+  virtual const char* name() const = 0;
+
+  /// Energy at the stacked positions q (3 #V).
+  virtual double value(const Eigen::VectorXd& q) const = 0;
+  /// value(q1) - value(q0). Forms override this where subtracting two values would cancel.
+  virtual double value_difference(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const {
+    return value(q1) - value(q0);
+  }
+  /// grad += scale * dE/dq.
+  virtual void add_gradient(const Eigen::VectorXd& q, double scale, Eigen::VectorXd& grad) const = 0;
+  /// Adds scale * d2E/dq2 (exact or PSD-projected) to the Hessian's buffers.
+  virtual void add_hessian(const Eigen::VectorXd& q, double scale, HessianKind kind,
+                           SparseHessian& hessian) const = 0;
+
+  /// Largest fraction t in (0, 1] of the step q0 -> q1 that the form allows (CCD for contact).
+  virtual double max_step_size(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const {
+    return 1.0;
+  }
+  /// Whether q1 (reached from q0) is admissible (e.g. no vertex on or beyond an obstacle).
+  virtual bool is_step_valid(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const {
+    return true;
+  }
+  /// Called by the solver whenever its iterate changes (contact forms rebuild their pair set).
+  virtual void solution_changed(const Eigen::VectorXd& q) {}
+};
+
+}  // namespace rbaa

@@ -1,0 +1,45 @@
+#pragma once
+// The energy one time step minimises: a weighted sum of forms, E(q) = sum_i w_i E_i(q). The
+// integrator sets the weights (1 for inertia, (4/9) h^2 or h^2 for the potentials); the Newton
+// solver sees only this object.
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <vector>
+
+#include "rbaa/sim/form.hpp"
+#include "rbaa/sim/sparse_hessian.hpp"
+
+namespace rbaa {
+
+class IncrementalPotential {
+ public:
+  explicit IncrementalPotential(SparseHessian& hessian) : hessian_(hessian) {}
+
+  /// Adds a term (not owned; it must outlive this object).
+  void add(Form& form, double weight) { terms_.push_back({&form, weight}); }
+  void set_weight(const Form& form, double weight);
+
+  double value(const Eigen::VectorXd& q) const;
+  /// E(q1) - E(q0) from the forms' cancellation-free differences.
+  double value_difference(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const;
+  Eigen::VectorXd gradient(const Eigen::VectorXd& q) const;
+  /// Assembles the (exact or projected) Hessian into the shared pattern and returns it.
+  const Eigen::SparseMatrix<double>& hessian(const Eigen::VectorXd& q, HessianKind kind);
+  double max_step_size(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const;
+  bool is_step_valid(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const;
+  void solution_changed(const Eigen::VectorXd& q);
+
+  const SparseHessian& hessian_pattern() const { return hessian_; }
+
+ private:
+  struct Term {
+    Form* form;
+    double weight;
+  };
+  std::vector<Term> terms_;
+  SparseHessian& hessian_;
+};
+
+}  // namespace rbaa

@@ -1,0 +1,73 @@
+#pragma once
+// The `rbaa simulate` pipeline as a library call: a scene, its placed mesh and a material field go
+// in, a Trajectory with everything needed to report it comes out; write_simulation_outputs turns
+// it into the per-step CSV, the ParaView series and report.json.
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rbaa/material/material_field.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/observables.hpp"
+#include "rbaa/sim/simulator.hpp"
+#include "rbaa/sim/trajectory.hpp"
+
+namespace rbaa {
+
+struct SimulationOptions {
+  /// Barrier stiffness; <= 0: scene_barrier_stiffness(scene, mesh) (the reference scene's rule).
+  double kappa = 0;
+  /// Called after every step (e.g. progress on stderr).
+  Simulator::StepCallback on_step;
+};
+
+/// Per-position observables (index k = position q_k, k = 0 .. N).
+struct StepObservables {
+  double time = 0;
+  Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();
+  Eigen::Vector3d com_velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d linear_momentum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular_momentum = Eigen::Vector3d::Zero();  ///< about the origin
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< best fit from q_0
+  double min_distance = 0;           ///< to any plane (m)
+  std::vector<double> plane_distance;  ///< per plane (m)
+};
+
+struct SimulationRun {
+  TetMesh mesh;  ///< rest shape = the placed reference mesh
+  MaterialField materials;
+  SimulationSettings settings;
+  bool kappa_from_rule = false;
+  Trajectory trajectory;
+  Eigen::VectorXd vertex_masses;
+  std::vector<StepObservables> observables;  ///< N + 1 entries
+  std::vector<Bounce> bounces;
+  double setup_seconds = 0;
+  double simulate_seconds = 0;
+};
+
+/// Simulates the scene (its time step, duration, obstacles, gravity, initial velocity and spin
+/// about scene.position) for the placed mesh with the given materials. Throws rbaa::InputError on
+/// bad input and rbaa::SolverError naming the step when a step fails.
+SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
+                             const MaterialField& materials, const SimulationOptions& options = {});
+
+/// Observables of every position of a trajectory.
+std::vector<StepObservables> compute_observables(Simulator& simulator,
+                                                 const Trajectory& trajectory);
+
+struct OutputOptions {
+  int vtu_every = 1;  ///< write every k-th position as .vtu (0: none)
+};
+
+/// Writes DIR/trajectory.csv (one row per position: time, centre of mass, linear and angular
+/// momentum, orientation quaternion, minimum contact distance, Newton iterations of the step that
+/// produced it), DIR/frames/frame_NNNNN.vtu + DIR/trajectory.pvd, and DIR/report.json. Creates DIR.
+void write_simulation_outputs(const SimulationRun& run, const Scene& scene, const std::string& dir,
+                              const OutputOptions& options = {});
+
+}  // namespace rbaa

@@ -1,0 +1,118 @@
+#pragma once
+// The forward simulator: one deformable body (linear tets, per-element materials) against
+// analytic planes, BDF time stepping, one Newton minimisation per step (SPEC section 2).
+//
+//   Simulator sim(rest_mesh, materials, settings);
+//   Trajectory t = sim.run(q0, v0);
+//
+// The forms, the integrator and the Newton solver stay reachable for the adjoint and the
+// benchmarks.
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rbaa/material/material_field.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/bdf.hpp"
+#include "rbaa/sim/contact_form.hpp"
+#include "rbaa/sim/elastic_form.hpp"
+#include "rbaa/sim/gravity_form.hpp"
+#include "rbaa/sim/incremental_potential.hpp"
+#include "rbaa/sim/inertia_form.hpp"
+#include "rbaa/sim/newton_solver.hpp"
+#include "rbaa/sim/sparse_hessian.hpp"
+#include "rbaa/sim/trajectory.hpp"
+
+namespace rbaa {
+
+struct SimulationSettings {
+  double time_step = 0.01;  ///< h (s)
+  int num_steps = 0;
+  Integrator integrator = Integrator::kBdf2;
+  MassModel mass = MassModel::kConsistent;
+  Eigen::Vector3d gravity{0.0, 0.0, -9.8};  ///< m/s^2 (zero: off)
+  std::vector<Plane> planes;
+  double d_hat = 1e-3;  ///< m
+  double kappa = 0;     ///< J per unit of b; must be > 0 when there are planes
+  /// Newton tolerance on ||dq||_inf / h relative to the rest bounding-box diagonal per second.
+  double newton_tolerance = 1e-8;
+  int newton_max_iterations = 100;
+  double exact_hessian_factor = std::numeric_limits<double>::infinity();  ///< see NewtonSettings
+};
+
+/// Settings of a scene: its h, steps = round(duration / h), integrator, mass model, gravity,
+/// planes, d_hat and Newton settings, with the given (frozen) kappa.
+SimulationSettings simulation_settings(const Scene& scene, double kappa);
+
+/// Per-vertex initial velocities (3 #V) of a body moving with `velocity` and spinning with
+/// `angular_velocity` (rad/s) about `centre`.
+Eigen::VectorXd rigid_velocities(const Eigen::VectorXd& q, const Eigen::Vector3d& centre,
+                                 const Eigen::Vector3d& velocity,
+                                 const Eigen::Vector3d& angular_velocity);
+
+class Simulator {
+ public:
+  using StepCallback = std::function<void(int step, const Eigen::VectorXd& q, const StepStats&)>;
+
+  /// `rest`: the rest (stress-free) shape, usually the placed reference mesh. Throws
+  /// rbaa::InputError on bad settings (non-finite or non-positive h, d_hat, tolerance; no kappa
+  /// with planes; non-unit plane normals) or materials that do not fit the mesh (naming
+  /// `materials_source`).
+  Simulator(const TetMesh& rest, const MaterialField& materials, const SimulationSettings& settings,
+            const std::string& materials_source = "materials");
+
+  /// Starts from positions q0 and per-dof velocities v0 (3 #V), with the ballistic past. Throws
+  /// rbaa::InputError if a surface vertex starts on or beyond a plane.
+  void reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0);
+  /// One time step; throws rbaa::SolverError naming the step when Newton fails.
+  StepStats advance();
+  /// reset + settings.num_steps advances, recording everything.
+  Trajectory run(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+                 const StepCallback& callback = {});
+
+  /// Replaces the materials (same mesh) and rebuilds the mass-dependent forms.
+  void set_materials(const MaterialField& materials, const std::string& source = "materials");
+
+  const SimulationSettings& settings() const { return settings_; }
+  const TetMesh& rest_mesh() const { return rest_; }
+  Eigen::VectorXd rest_positions() const;
+  int num_dofs() const { return 3 * rest_.num_vertices(); }
+  int step_index() const { return step_; }
+  double velocity_tolerance() const { return newton_.settings().velocity_tolerance; }
+  const Eigen::VectorXd& vertex_masses() const { return vertex_masses_; }
+  const std::vector<int>& surface_vertices() const { return surface_vertices_; }
+
+  BdfIntegrator& integrator() { return integrator_; }
+  IncrementalPotential& potential() { return *potential_; }
+  NewtonSolver& newton() { return newton_; }
+  SparseHessian& hessian_pattern() { return *hessian_; }
+  InertiaForm& inertia_form() { return *inertia_; }
+  ElasticForm& elastic_form() { return *elastic_; }
+  GravityForm& gravity_form() { return *gravity_; }
+  ContactForm& contact_form() { return *contact_; }
+
+ private:
+  void build_mass_forms(const MaterialField& materials);
+
+  TetMesh rest_;
+  SimulationSettings settings_;
+  std::vector<int> surface_vertices_;
+  Eigen::VectorXd vertex_masses_;
+  std::unique_ptr<SparseHessian> hessian_;
+  std::unique_ptr<InertiaForm> inertia_;
+  std::unique_ptr<ElasticForm> elastic_;
+  std::unique_ptr<GravityForm> gravity_;
+  std::unique_ptr<ContactForm> contact_;
+  std::unique_ptr<IncrementalPotential> potential_;
+  BdfIntegrator integrator_;
+  NewtonSolver newton_;
+  int step_ = 0;
+};
+
+}  // namespace rbaa

@@ -1,0 +1,152 @@
+#include "rbaa/sim/elastic_form.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+
+#include "rbaa/material/lame.hpp"
+#include "rbaa/sim/parallel.hpp"
+#include "rbaa/sim/stable_neo_hookean.hpp"
+
+namespace rbaa {
+
+ElasticForm::ElasticForm(const TetMesh& rest, const MaterialField& materials) : tets_(rest.T) {
+  const RestShape shape = compute_rest_shape(rest);
+  const int nt = rest.num_tets();
+  B_.resize(nt);
+  for (int e = 0; e < nt; ++e) {
+    // F = Ds Dm^-1 = sum_{k=1..3} (x_k - x_0) row_{k-1}(Dm^-1): b_k = row, b_0 = -sum.
+    const Eigen::Matrix3d& Di = shape.Dm_inv[e];
+    B_[e].block<3, 3>(0, 1) = Di.transpose();
+    B_[e].col(0) = -Di.transpose().rowwise().sum();
+  }
+  volume_ = shape.volume;
+  set_materials(materials);
+  // Vertex -> (element, local vertex) incidence, ordered by element, for the gradient gather.
+  const int nv = rest.num_vertices();
+  incidence_start_.assign(nv + 1, 0);
+  for (int e = 0; e < nt; ++e) {
+    for (int a = 0; a < 4; ++a) ++incidence_start_[tets_(e, a) + 1];
+  }
+  for (int v = 0; v < nv; ++v) incidence_start_[v + 1] += incidence_start_[v];
+  incidence_.resize(4 * std::size_t(nt));
+  std::vector<int> pos(incidence_start_.begin(), incidence_start_.end() - 1);
+  for (int e = 0; e < nt; ++e) {
+    for (int a = 0; a < 4; ++a) incidence_[pos[tets_(e, a)]++] = 4 * e + a;
+  }
+  element_buffer_.assign(12 * std::size_t(nt), 0.0);
+}
+
+void ElasticForm::set_materials(const MaterialField& materials) {
+  const int nt = num_elements();
+  mu_.resize(nt);
+  lambda_.resize(nt);
+  weight_.resize(nt);
+  for (int e = 0; e < nt; ++e) {
+    const LameParameters lame = lame_from_young_poisson(materials.Y[e], materials.nu[e]);
+    mu_[e] = lame.mu;
+    lambda_[e] = lame.lambda;
+    const double a = materials.alpha[e];
+    weight_[e] = a * a * a * volume_[e];
+  }
+}
+
+Eigen::Matrix3d ElasticForm::deformation_gradient(const Eigen::VectorXd& q, int e) const {
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  for (int a = 0; a < 4; ++a) F += q.segment<3>(3 * tets_(e, a)) * B_[e].col(a).transpose();
+  return F;
+}
+
+double ElasticForm::value(const Eigen::VectorXd& q) const {
+  const int nt = num_elements();
+  double* buf = element_buffer_.data();
+#pragma omp parallel for schedule(static) if (nt > kParallelElements)
+  for (int e = 0; e < nt; ++e) {
+    const snh::EnergyParts p = snh::energy_parts(deformation_gradient(q, e));
+    buf[e] = weight_[e] * (mu_[e] * p.mu + lambda_[e] * p.lambda);
+  }
+  double sum = 0;  // fixed order
+  for (int e = 0; e < nt; ++e) sum += buf[e];
+  return sum;
+}
+
+double ElasticForm::value_difference(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const {
+  const int nt = num_elements();
+  double* buf = element_buffer_.data();
+  const Eigen::VectorXd dq = q1 - q0;
+#pragma omp parallel for schedule(static) if (nt > kParallelElements)
+  for (int e = 0; e < nt; ++e) {
+    const snh::EnergyParts p =
+        snh::energy_parts_difference(deformation_gradient(q0, e), deformation_gradient(dq, e));
+    buf[e] = weight_[e] * (mu_[e] * p.mu + lambda_[e] * p.lambda);
+  }
+  double sum = 0;
+  for (int e = 0; e < nt; ++e) sum += buf[e];
+  return sum;
+}
+
+void ElasticForm::add_gradient(const Eigen::VectorXd& q, double scale, Eigen::VectorXd& grad) const {
+  const int nt = num_elements();
+  double* buf = element_buffer_.data();
+#pragma omp parallel for schedule(static) if (nt > kParallelElements)
+  for (int e = 0; e < nt; ++e) {
+    const Eigen::Matrix3d P = weight_[e] * snh::stress(deformation_gradient(q, e), mu_[e], lambda_[e]);
+    // dPsi/dx_a = P b_a
+    Eigen::Map<Eigen::Matrix<double, 3, 4>>(buf + 12 * std::size_t(e)) = P * B_[e];
+  }
+  const int nv = static_cast<int>(incidence_start_.size()) - 1;
+#pragma omp parallel for schedule(static) if (nv > kParallelVertices)
+  for (int v = 0; v < nv; ++v) {
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int s = incidence_start_[v]; s < incidence_start_[v + 1]; ++s) {
+      g += Eigen::Map<const Eigen::Vector3d>(buf + 3 * std::size_t(incidence_[s]));
+    }
+    grad.segment<3>(3 * v) += scale * g;
+  }
+}
+
+void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKind kind,
+                              SparseHessian& hessian) const {
+  const int nt = num_elements();
+  const bool project = kind == HessianKind::kProjected;
+  // Eigenvalues below -1e-12 (mu + lambda) count as a real change by the projection; the rotation
+  // modes of an unstrained element sit at +-1e-16 mu and clamping those changes nothing.
+  bool clamped = false;
+#pragma omp parallel for schedule(static) reduction(|| : clamped) if (nt > kParallelElements)
+  for (int e = 0; e < nt; ++e) {
+    const snh::Eigensystem es =
+        snh::hessian_eigensystem(deformation_gradient(q, e), mu_[e], lambda_[e]);
+    double* H = hessian.element_block(e);
+    const double w = scale * weight_[e];
+    const double significant = -1e-12 * (mu_[e] + lambda_[e]);
+    for (int m = 0; m < 9; ++m) {
+      double value = es.values[m];
+      if (project && value <= 0) {
+        if (value < significant) clamped = true;
+        continue;
+      }
+      value *= w;
+      // Mode m of d2Psi/dF2 seen by the element's dofs: dF = sum_a dx_a b_a^T, so the 12-vector
+      // is (Q_m b_a)_a and the element Hessian gets value * v v^T.
+      Eigen::Matrix<double, 3, 4> v = es.modes[m] * B_[e];
+      const double* vp = v.data();
+      int p = 0;
+      for (int c = 0; c < 12; ++c) {
+        const double vc = value * vp[c];
+        for (int r = c; r < 12; ++r) H[p++] += vc * vp[r];
+      }
+    }
+  }
+  if (clamped) hessian.mark_projection_active();
+}
+
+void ElasticForm::element_gradient_parts(const Eigen::VectorXd& q, int e,
+                                         Eigen::Matrix<double, 12, 1>& g_mu,
+                                         Eigen::Matrix<double, 12, 1>& g_lambda) const {
+  const Eigen::Matrix3d F = deformation_gradient(q, e);
+  Eigen::Map<Eigen::Matrix<double, 3, 4>>(g_mu.data()) = weight_[e] * snh::stress_mu(F) * B_[e];
+  Eigen::Map<Eigen::Matrix<double, 3, 4>>(g_lambda.data()) =
+      weight_[e] * snh::stress_lambda(F) * B_[e];
+}
+
+}  // namespace rbaa

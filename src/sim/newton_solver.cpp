@@ -1,0 +1,100 @@
+#include "rbaa/sim/newton_solver.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "rbaa/error.hpp"
+
+namespace rbaa {
+
+NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
+                                    const std::string& context) {
+  const double h = settings_.time_step;
+  const double tol = settings_.velocity_tolerance;
+  const std::uint64_t pattern = E.hessian_pattern().pattern_version();
+  NewtonResult result;
+  E.solution_changed(x);
+  double last_velocity = std::numeric_limits<double>::infinity();
+  bool last_full = false;
+
+  for (int it = 0; it < settings_.max_iterations; ++it) {
+    const Eigen::VectorXd g = E.gradient(x);
+    if (!g.allFinite()) {
+      throw SolverError(context + ": non-finite energy gradient at Newton iteration " +
+                        std::to_string(it));
+    }
+    HessianKind kind = (last_full && last_velocity < settings_.exact_hessian_factor * tol)
+                           ? HessianKind::kExact
+                           : HessianKind::kProjected;
+    bool ok = solver_.factorize(E.hessian(x, kind), pattern);
+    if (!ok && kind == HessianKind::kExact) {
+      ++result.projected_fallbacks;
+      kind = HessianKind::kProjected;
+      ok = solver_.factorize(E.hessian(x, kind), pattern);
+    }
+    if (!ok) {
+      throw SolverError(context + ": the projected Hessian is not positive definite at Newton "
+                        "iteration " + std::to_string(it));
+    }
+    Eigen::VectorXd dq = -solver_.solve(g);
+    ++result.iterations;
+    // A projected Hessian that the projection left unchanged is the exact one.
+    result.exact_factor =
+        kind == HessianKind::kExact || !E.hessian_pattern().projection_active();
+    const double velocity = dq.lpNorm<Eigen::Infinity>() / h;
+    result.step_velocity = velocity;
+    if (!std::isfinite(velocity)) {
+      throw SolverError(context + ": non-finite Newton step at iteration " + std::to_string(it));
+    }
+    if (velocity < tol) return result;
+
+    if (transform_) {
+      Eigen::VectorXd corrected = transform_(x, dq);
+      if (g.dot(corrected) < 0) dq = std::move(corrected);
+    }
+
+    // Line search: start at the largest admissible fraction (CCD), halve until E decreases.
+    double alpha = E.max_step_size(x, x + dq);
+    if (alpha < 1.0) ++result.ccd_limited_steps;
+    const double alpha0 = alpha;
+    Eigen::VectorXd trial;
+    int halvings = 0;
+    for (;; ++halvings) {
+      if (halvings > settings_.max_line_search_halvings) {
+        std::ostringstream msg;
+        msg << context << ": line search failed at Newton iteration " << it
+            << " (no decrease of the incremental potential along a step of velocity " << velocity
+            << " m/s; tolerance " << tol << " m/s)";
+        throw SolverError(msg.str());
+      }
+      trial = x + alpha * dq;
+      if (E.is_step_valid(x, trial) && E.value_difference(x, trial) <= 0) break;
+      alpha *= 0.5;
+    }
+    result.line_search_halvings += halvings;
+    if (callback_) {
+      NewtonIteration info;
+      info.iteration = it;
+      info.exact_hessian = kind == HessianKind::kExact;
+      info.step_velocity = velocity;
+      info.max_step_fraction = alpha0;
+      info.step_fraction = alpha;
+      info.energy_change = E.value_difference(x, trial);
+      info.directional_derivative = g.dot(dq);
+      dq.cwiseAbs().maxCoeff(&info.largest_dof);
+      callback_(context, info);
+    }
+    x = trial;
+    E.solution_changed(x);
+    last_velocity = velocity;
+    last_full = halvings == 0 && alpha0 == 1.0;
+  }
+  std::ostringstream msg;
+  msg << context << ": Newton did not converge in " << settings_.max_iterations
+      << " iterations (last step velocity " << result.step_velocity << " m/s, tolerance " << tol
+      << " m/s)";
+  throw SolverError(msg.str());
+}
+
+}  // namespace rbaa

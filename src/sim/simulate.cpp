@@ -1,0 +1,197 @@
+#include "rbaa/sim/simulate.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "rbaa/error.hpp"
+#include "rbaa/io/atomic_file.hpp"
+#include "rbaa/io/csv.hpp"
+#include "rbaa/io/vtu.hpp"
+#include "rbaa/sim/barrier_stiffness.hpp"
+#include "rbaa/sim/threads.hpp"
+
+namespace rbaa {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+const char* integrator_name(Integrator i) { return i == Integrator::kBdf2 ? "bdf2" : "bdf1"; }
+const char* mass_name(MassModel m) { return m == MassModel::kConsistent ? "consistent" : "lumped"; }
+
+nlohmann::json vec3(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
+
+}  // namespace
+
+std::vector<StepObservables> compute_observables(Simulator& simulator,
+                                                 const Trajectory& trajectory) {
+  Simulator& sim = simulator;
+  const Eigen::VectorXd& masses = sim.vertex_masses();
+  const ContactSet& set = sim.contact_form().contact_set();
+  std::vector<StepObservables> out(trajectory.q.size());
+  for (int k = 0; k < static_cast<int>(trajectory.q.size()); ++k) {
+    const Eigen::VectorXd& q = trajectory.q[k];
+    const Eigen::VectorXd v = trajectory.velocity(k);
+    const Eigen::VectorXd Mv = sim.inertia_form().multiply(v);
+    StepObservables& o = out[k];
+    o.time = trajectory.time(k);
+    o.centre_of_mass = centre_of_mass(q, masses);
+    o.com_velocity = centre_of_mass(v, masses);
+    o.linear_momentum = linear_momentum(Mv);
+    o.angular_momentum = angular_momentum(q, Mv);
+    o.orientation = best_fit_rotation(trajectory.q[0], q, masses);
+    o.plane_distance = set.min_distance_per_plane(q);
+    o.min_distance = set.min_distance(q);
+  }
+  return out;
+}
+
+SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
+                             const MaterialField& materials, const SimulationOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SimulationRun run;
+  run.mesh = placed_mesh;
+  run.materials = materials;
+  double kappa = options.kappa;
+  if (!(kappa > 0)) {
+    run.kappa_from_rule = !(scene.kappa > 0);
+    kappa = scene_barrier_stiffness(scene, placed_mesh);
+  }
+  run.settings = simulation_settings(scene, kappa);
+  Simulator sim(placed_mesh, materials, run.settings, scene.source + " (materials)");
+  run.vertex_masses = sim.vertex_masses();
+  const Eigen::VectorXd q0 = sim.rest_positions();
+  const Eigen::VectorXd v0 =
+      rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
+  run.setup_seconds = seconds_since(t0);
+
+  const auto t1 = std::chrono::steady_clock::now();
+  run.trajectory = sim.run(q0, v0, options.on_step);
+  run.simulate_seconds = seconds_since(t1);
+
+  run.observables = compute_observables(sim, run.trajectory);
+  std::vector<std::vector<double>> distances;
+  std::vector<Eigen::Vector3d> velocities;
+  for (const StepObservables& o : run.observables) {
+    distances.push_back(o.plane_distance);
+    velocities.push_back(o.com_velocity);
+  }
+  run.bounces = find_bounces(distances, velocities, run.settings.planes, run.settings.d_hat);
+  return run;
+}
+
+void write_simulation_outputs(const SimulationRun& run, const Scene& scene, const std::string& dir,
+                              const OutputOptions& options) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create the output directory (" + ec.message() + ")");
+  const Trajectory& t = run.trajectory;
+  const int n = static_cast<int>(t.q.size());
+
+  // Per-step CSV.
+  const std::vector<std::string> header = {
+      "step", "time", "com_x", "com_y", "com_z", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z",
+      "q_w", "q_x", "q_y", "q_z", "min_distance", "newton_iterations"};
+  Eigen::MatrixXd rows(n, header.size());
+  for (int k = 0; k < n; ++k) {
+    const StepObservables& o = run.observables[k];
+    rows.row(k) << k, o.time, o.centre_of_mass.transpose(), o.linear_momentum.transpose(),
+        o.angular_momentum.transpose(), o.orientation.w(), o.orientation.x(), o.orientation.y(),
+        o.orientation.z(), std::isfinite(o.min_distance) ? o.min_distance : -1.0,
+        k == 0 ? 0 : t.steps[k - 1].newton_iterations;
+  }
+  write_csv((fs::path(dir) / "trajectory.csv").string(), header, rows);
+
+  // ParaView series: deformed positions, displacement from q_0, velocity; materials per cell.
+  std::vector<std::pair<double, std::string>> frames;
+  if (options.vtu_every > 0) {
+    fs::create_directories(fs::path(dir) / "frames", ec);
+    if (ec) throw InputError(dir + "/frames: cannot create (" + ec.message() + ")");
+    VtuFields cells;
+    cells["Y"] = run.materials.Y;
+    cells["nu"] = run.materials.nu;
+    cells["rho"] = run.materials.rho;
+    cells["alpha"] = run.materials.alpha;
+    const int nv = run.mesh.num_vertices();
+    for (int k = 0; k < n; k += options.vtu_every) {
+      Vertices V = Eigen::Map<const Vertices>(t.q[k].data(), nv, 3);
+      const Eigen::VectorXd v = t.velocity(k);
+      VtuFields points;
+      points["displacement"] = Eigen::Map<const Vertices>(t.q[k].data(), nv, 3) -
+                               Eigen::Map<const Vertices>(t.q[0].data(), nv, 3);
+      points["velocity"] = Eigen::Map<const Vertices>(v.data(), nv, 3);
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%05d.vtu", k);
+      write_vtu((fs::path(dir) / "frames" / name).string(), V, run.mesh.T, points, cells);
+      frames.emplace_back(t.time(k), std::string("frames/") + name);
+    }
+    write_pvd((fs::path(dir) / "trajectory.pvd").string(), frames);
+  }
+
+  // report.json
+  nlohmann::json r;
+  r["scene"] = scene.name;
+  r["config"] = scene.source;
+  r["mesh"] = {{"vertices", run.mesh.num_vertices()}, {"tets", run.mesh.num_tets()}};
+  r["steps"] = t.num_steps();
+  r["time_step"] = t.time_step;
+  r["duration"] = t.time(t.num_steps());
+  r["integrator"] = integrator_name(run.settings.integrator);
+  r["mass"] = mass_name(run.settings.mass);
+  r["kappa"] = run.settings.kappa;
+  r["kappa_source"] = run.kappa_from_rule ? "energy rule (SPEC 2)" : "config";
+  r["d_hat"] = run.settings.d_hat;
+  std::vector<int> iterations;
+  int total = 0, max_it = 0, exact = 0;
+  double dmin = std::numeric_limits<double>::infinity();
+  for (const StepStats& s : t.steps) {
+    iterations.push_back(s.newton_iterations);
+    total += s.newton_iterations;
+    max_it = std::max(max_it, s.newton_iterations);
+    exact += s.exact_factor ? 1 : 0;
+    dmin = std::min(dmin, s.min_distance);
+  }
+  r["newton"] = {{"tolerance_m_per_s", run.settings.newton_tolerance},
+                 {"max_iterations", run.settings.newton_max_iterations},
+                 {"iterations_per_step", iterations},
+                 {"total_iterations", total},
+                 {"max_iterations_in_a_step", max_it},
+                 {"steps_ending_with_exact_factor", exact}};
+  r["min_contact_distance"] = std::isfinite(dmin) ? nlohmann::json(dmin) : nlohmann::json(nullptr);
+  nlohmann::json bounces = nlohmann::json::array();
+  for (const Bounce& b : run.bounces) {
+    bounces.push_back({{"plane", b.plane},
+                       {"first_step", b.first_step},
+                       {"last_step", b.last_step},
+                       {"time", t.time(b.first_step)},
+                       {"normal_velocity_in", b.normal_velocity_in},
+                       {"normal_velocity_out", b.normal_velocity_out},
+                       {"restitution", b.complete ? nlohmann::json(b.restitution) : nlohmann::json(nullptr)},
+                       {"complete", b.complete}});
+  }
+  r["bounces"] = bounces;
+  const StepObservables& last = run.observables.back();
+  r["final"] = {{"centre_of_mass", vec3(last.centre_of_mass)},
+                {"velocity", vec3(last.com_velocity)},
+                {"orientation_wxyz",
+                 {last.orientation.w(), last.orientation.x(), last.orientation.y(), last.orientation.z()}}};
+  double step_sum = 0;
+  for (const StepStats& s : t.steps) step_sum += s.seconds;
+  r["timing"] = {{"setup_s", run.setup_seconds},
+                 {"simulate_s", run.simulate_seconds},
+                 {"per_step_s", t.num_steps() ? step_sum / t.num_steps() : 0.0},
+                 {"per_iteration_s", total ? step_sum / total : 0.0},
+                 {"threads", simulation_threads()}};
+  write_file_atomically((fs::path(dir) / "report.json").string(),
+                        [&](std::ostream& os) { os << r.dump(2) << "\n"; });
+}
+
+}  // namespace rbaa

@@ -1,0 +1,208 @@
+#include "rbaa/sim/simulator.hpp"
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "rbaa/error.hpp"
+#include "rbaa/mesh/topology.hpp"
+#include "rbaa/sim/mass_matrix.hpp"
+#include "rbaa/sim/rigid_rotation_correction.hpp"
+
+namespace rbaa {
+
+namespace {
+
+void check_positive(double value, const char* what) {
+  if (!(std::isfinite(value) && value > 0)) {
+    std::ostringstream msg;
+    msg << "simulation: " << what << " is " << value << "; it must be a positive finite number";
+    throw InputError(msg.str());
+  }
+}
+
+const SimulationSettings& validated(const SimulationSettings& s) {
+  check_positive(s.time_step, "the time step h");
+  check_positive(s.d_hat, "the barrier activation distance d_hat");
+  check_positive(s.newton_tolerance, "the Newton tolerance");
+  if (!(s.exact_hessian_factor > 0)) throw InputError("simulation: the exact-Hessian switch factor must be > 0");
+  if (s.num_steps < 0) throw InputError("simulation: negative number of steps");
+  if (s.newton_max_iterations < 1) throw InputError("simulation: Newton needs at least 1 iteration");
+  if (!s.gravity.allFinite()) throw InputError("simulation: gravity is not finite");
+  if (!std::isfinite(s.kappa) || s.kappa < 0) {
+    throw InputError("simulation: the barrier stiffness kappa must be finite and >= 0");
+  }
+  if (!s.planes.empty() && !(s.kappa > 0)) {
+    throw InputError("simulation: the barrier stiffness kappa must be positive when there are planes");
+  }
+  for (std::size_t p = 0; p < s.planes.size(); ++p) {
+    const Plane& plane = s.planes[p];
+    if (!plane.normal.allFinite() || !std::isfinite(plane.offset) ||
+        std::abs(plane.normal.norm() - 1.0) > 1e-9) {
+      throw InputError("simulation: plane " + std::to_string(p) +
+                       " needs a finite unit normal and a finite offset");
+    }
+  }
+  return s;
+}
+
+NewtonSettings newton_settings(const SimulationSettings& s, const TetMesh& rest) {
+  NewtonSettings n;
+  n.time_step = s.time_step;
+  n.velocity_tolerance = s.newton_tolerance * bounding_box_diagonal(rest);
+  n.max_iterations = s.newton_max_iterations;
+  n.exact_hessian_factor = s.exact_hessian_factor;
+  return n;
+}
+
+}  // namespace
+
+SimulationSettings simulation_settings(const Scene& scene, double kappa) {
+  SimulationSettings s;
+  s.time_step = scene.time_step;
+  s.num_steps = static_cast<int>(std::lround(scene.duration / scene.time_step));
+  s.integrator = scene.integrator;
+  s.mass = scene.mass;
+  s.gravity = scene.gravity;
+  s.planes = scene.planes;
+  s.d_hat = scene.d_hat;
+  s.kappa = kappa;
+  s.newton_tolerance = scene.newton_tolerance;
+  s.newton_max_iterations = scene.newton_max_iterations;
+  return s;
+}
+
+Eigen::VectorXd rigid_velocities(const Eigen::VectorXd& q, const Eigen::Vector3d& centre,
+                                 const Eigen::Vector3d& velocity,
+                                 const Eigen::Vector3d& angular_velocity) {
+  Eigen::VectorXd v(q.size());
+  for (Eigen::Index i = 0; i < q.size() / 3; ++i) {
+    v.segment<3>(3 * i) = velocity + angular_velocity.cross(q.segment<3>(3 * i) - centre);
+  }
+  return v;
+}
+
+Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
+                     const SimulationSettings& settings, const std::string& materials_source)
+    : rest_(rest),
+      settings_(validated(settings)),
+      integrator_(settings.integrator, settings.time_step),
+      newton_(newton_settings(settings, rest)) {
+  validate_material_field(materials, rest.num_tets(), materials_source);
+  surface_vertices_ = boundary_vertices(rest_);
+  hessian_ = std::make_unique<SparseHessian>(rest_.T, rest_.num_vertices());
+  elastic_ = std::make_unique<ElasticForm>(rest_, materials);
+  contact_ = std::make_unique<ContactForm>(
+      ContactSet(surface_vertices_, settings_.planes, settings_.d_hat), settings_.kappa);
+  build_mass_forms(materials);
+  newton_.set_step_transform([this](const Eigen::VectorXd& x, const Eigen::VectorXd& dq) {
+    return rigid_rotation_correction(x, dq, vertex_masses_);
+  });
+}
+
+void Simulator::build_mass_forms(const MaterialField& materials) {
+  const Eigen::VectorXd density = materials.effective_density();
+  vertex_masses_ = rbaa::vertex_masses(rest_, density);
+  inertia_ = std::make_unique<InertiaForm>(mass_matrix(rest_, density, settings_.mass, *hessian_));
+  gravity_ = std::make_unique<GravityForm>(vertex_masses_, settings_.gravity);
+  const double w = integrator_.potential_weight();
+  potential_ = std::make_unique<IncrementalPotential>(*hessian_);
+  potential_->add(*inertia_, 1.0);
+  potential_->add(*elastic_, w);
+  if (settings_.gravity.squaredNorm() > 0) potential_->add(*gravity_, w);
+  if (!settings_.planes.empty()) potential_->add(*contact_, w);
+}
+
+void Simulator::set_materials(const MaterialField& materials, const std::string& source) {
+  validate_material_field(materials, rest_.num_tets(), source);
+  elastic_->set_materials(materials);
+  Eigen::VectorXd q_hat = inertia_->predictor();
+  build_mass_forms(materials);
+  inertia_->set_predictor(q_hat);
+}
+
+Eigen::VectorXd Simulator::rest_positions() const {
+  return Eigen::Map<const Eigen::VectorXd>(rest_.V.data(), num_dofs());
+}
+
+void Simulator::reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) {
+  if (q0.size() != num_dofs() || v0.size() != num_dofs()) {
+    throw InputError("simulation: initial state has the wrong size for the mesh");
+  }
+  if (!q0.allFinite() || !v0.allFinite()) {
+    throw InputError("simulation: initial positions or velocities are not finite");
+  }
+  for (int v : surface_vertices_) {
+    for (std::size_t p = 0; p < settings_.planes.size(); ++p) {
+      const Plane& plane = settings_.planes[p];
+      const double d = plane.normal.dot(q0.segment<3>(3 * v)) - plane.offset;
+      if (!(d > 0)) {
+        std::ostringstream msg;
+        msg << "simulation: the object starts intersecting or touching plane " << p
+            << " (vertex " << v << " at distance " << d << " m)";
+        throw InputError(msg.str());
+      }
+    }
+  }
+  integrator_.initialize(q0, v0, settings_.gravity);
+  step_ = 0;
+}
+
+StepStats Simulator::advance() {
+  const auto start = std::chrono::steady_clock::now();
+  const Eigen::VectorXd& q_n = integrator_.current();
+  const Eigen::VectorXd q_hat = integrator_.predictor();
+  inertia_->set_predictor(q_hat);
+
+  // Start from the ballistic guess q_hat + w g (the exact answer for a free, undeformed body:
+  // M (q - q_hat) = w M g) when the straight path to it is admissible, else from q_n. Starting
+  // there also keeps a free fall on the parabola to round-off: Newton's last, unapplied step
+  // (below tolerance by design) then holds no rigid motion.
+  Eigen::VectorXd guess = q_hat;
+  const double w = integrator_.potential_weight();
+  for (int v = 0; v < rest_.num_vertices(); ++v) guess.segment<3>(3 * v) += w * settings_.gravity;
+  Eigen::VectorXd x = q_n;
+  if (potential_->max_step_size(q_n, guess) >= 1.0 && potential_->is_step_valid(q_n, guess)) {
+    x = guess;
+  }
+  std::ostringstream context;
+  context << "step " << step_ + 1 << " (t = " << (step_ + 1) * settings_.time_step << " s)";
+  const NewtonResult r = newton_.minimize(*potential_, x, context.str());
+  integrator_.push(x);
+  ++step_;
+
+  StepStats s;
+  s.newton_iterations = r.iterations;
+  s.exact_factor = r.exact_factor;
+  s.step_velocity = r.step_velocity;
+  s.line_search_halvings = r.line_search_halvings;
+  s.ccd_limited_steps = r.ccd_limited_steps;
+  s.projected_fallbacks = r.projected_fallbacks;
+  s.min_distance = contact_->min_distance(x);
+  s.active_pairs = contact_->num_active_pairs(x);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s;
+}
+
+Trajectory Simulator::run(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+                          const StepCallback& callback) {
+  reset(q0, v0);
+  Trajectory t;
+  t.time_step = settings_.time_step;
+  t.integrator = settings_.integrator;
+  t.kappa = settings_.kappa;
+  for (int k = 1; k <= 3; ++k) t.history.push_back(integrator_.past(k));
+  t.q.reserve(settings_.num_steps + 1);
+  t.q.push_back(q0);
+  for (int k = 0; k < settings_.num_steps; ++k) {
+    const StepStats s = advance();
+    t.q.push_back(integrator_.current());
+    t.steps.push_back(s);
+    if (callback) callback(step_, integrator_.current(), s);
+  }
+  return t;
+}
+
+}  // namespace rbaa

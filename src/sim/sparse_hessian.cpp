@@ -1,0 +1,149 @@
+#include "rbaa/sim/sparse_hessian.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+
+#include "rbaa/sim/parallel.hpp"
+
+namespace rbaa {
+
+namespace {
+std::atomic<std::uint64_t> next_pattern_version{1};
+}
+
+SparseHessian::SparseHessian(const Tets& tets, int num_vertices)
+    : num_elements_(static_cast<int>(tets.rows())), num_vertices_(num_vertices) {
+  pattern_version_ = next_pattern_version++;
+  const int n = 3 * num_vertices;
+
+  // Block pattern: for each column vertex c, the sorted row vertices r >= c sharing a tet.
+  std::vector<std::vector<int>> neighbours(num_vertices);
+  for (int v = 0; v < num_vertices; ++v) neighbours[v].push_back(v);
+  for (int e = 0; e < num_elements_; ++e) {
+    for (int a = 0; a < 4; ++a) {
+      for (int b = 0; b < 4; ++b) {
+        const int va = tets(e, a), vb = tets(e, b);
+        if (va > vb) neighbours[vb].push_back(va);
+      }
+    }
+  }
+  std::vector<int> outer(n + 1, 0);
+  std::vector<int> inner;
+  for (int c = 0; c < num_vertices; ++c) {
+    auto& list = neighbours[c];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    for (int j = 0; j < 3; ++j) {
+      const int col = 3 * c + j;
+      for (int i = j; i < 3; ++i) inner.push_back(3 * c + i);  // diagonal block, lower part
+      for (std::size_t k = 1; k < list.size(); ++k) {
+        for (int i = 0; i < 3; ++i) inner.push_back(3 * list[k] + i);
+      }
+      outer[col + 1] = static_cast<int>(inner.size());
+    }
+  }
+  const int nnz = static_cast<int>(inner.size());
+  std::vector<double> zeros(nnz, 0.0);
+  matrix_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, nnz, outer.data(), inner.data(),
+                                                           zeros.data());
+  matrix_.makeCompressed();
+
+  auto entry = [&](int row, int col) {
+    const int* begin = inner.data() + outer[col];
+    const int* end = inner.data() + outer[col + 1];
+    return static_cast<int>(std::lower_bound(begin, end, row) - inner.data());
+  };
+
+  // Gather lists: nonzero k <- element entries, counted then filled in element order.
+  std::vector<int> target(std::size_t(num_elements_) * kPacked);
+  std::vector<int> count(nnz + 1, 0);
+  for (int e = 0; e < num_elements_; ++e) {
+    for (int c = 0; c < 12; ++c) {
+      for (int r = c; r < 12; ++r) {
+        int R = 3 * tets(e, r / 3) + r % 3, C = 3 * tets(e, c / 3) + c % 3;
+        if (R < C) std::swap(R, C);  // the block is symmetric
+        const int k = entry(R, C);
+        target[std::size_t(e) * kPacked + packed_index(r, c)] = k;
+        ++count[k + 1];
+      }
+    }
+  }
+  source_start_.assign(nnz + 1, 0);
+  for (int k = 0; k < nnz; ++k) source_start_[k + 1] = source_start_[k] + count[k + 1];
+  sources_.resize(source_start_[nnz]);
+  std::vector<int> fill(source_start_.begin(), source_start_.end() - 1);
+  for (std::size_t s = 0; s < target.size(); ++s) sources_[fill[target[s]]++] = static_cast<int>(s);
+
+  diagonal_entries_.resize(6 * std::size_t(num_vertices));
+  for (int v = 0; v < num_vertices; ++v) {
+    int p = 0;
+    for (int j = 0; j < 3; ++j) {
+      for (int i = j; i < 3; ++i) diagonal_entries_[6 * v + p++] = entry(3 * v + i, 3 * v + j);
+    }
+  }
+
+  element_values_.assign(std::size_t(num_elements_) * kPacked, 0.0);
+  vertex_values_.assign(num_vertices, Eigen::Matrix3d::Zero());
+  vertex_touched_.assign(num_vertices, 0);
+  direct_ = Eigen::VectorXd::Zero(nnz);
+}
+
+void SparseHessian::set_zero() {
+  const std::ptrdiff_t size = static_cast<std::ptrdiff_t>(element_values_.size());
+  double* data = element_values_.data();
+#pragma omp parallel for schedule(static) if (size > kParallelEntries)
+  for (std::ptrdiff_t i = 0; i < size; ++i) data[i] = 0.0;
+  for (int v : touched_vertices_) {
+    vertex_values_[v].setZero();
+    vertex_touched_[v] = 0;
+  }
+  touched_vertices_.clear();
+  if (direct_used_) direct_.setZero();
+  direct_used_ = false;
+  projection_active_ = false;
+}
+
+Eigen::Matrix3d& SparseHessian::vertex_block(int v) {
+  if (!vertex_touched_[v]) {
+    vertex_touched_[v] = 1;
+    touched_vertices_.push_back(v);
+  }
+  return vertex_values_[v];
+}
+
+void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& A) {
+  direct_ += scale * Eigen::Map<const Eigen::VectorXd>(A.valuePtr(), A.nonZeros());
+  direct_used_ = true;
+}
+
+const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
+  const int nnz = static_cast<int>(matrix_.nonZeros());
+  double* values = matrix_.valuePtr();
+  const double* elem = element_values_.data();
+  const double* direct = direct_.data();
+#pragma omp parallel for schedule(static) if (nnz > kParallelEntries)
+  for (int k = 0; k < nnz; ++k) {
+    double sum = direct[k];
+    for (int s = source_start_[k]; s < source_start_[k + 1]; ++s) sum += elem[sources_[s]];
+    values[k] = sum;
+  }
+  std::vector<int> sorted = touched_vertices_;
+  std::sort(sorted.begin(), sorted.end());
+  for (int v : sorted) {
+    const Eigen::Matrix3d& B = vertex_values_[v];
+    int p = 0;
+    for (int j = 0; j < 3; ++j) {
+      for (int i = j; i < 3; ++i) values[diagonal_entries_[6 * v + p++]] += B(i, j);
+    }
+  }
+  return matrix_;
+}
+
+Eigen::SparseMatrix<double> SparseHessian::zero_matrix() const {
+  Eigen::SparseMatrix<double> Z = matrix_;
+  Eigen::Map<Eigen::VectorXd>(Z.valuePtr(), Z.nonZeros()).setZero();
+  return Z;
+}
+
+}  // namespace rbaa

@@ -1,0 +1,165 @@
+// The elastic form on small meshes: gradient and Hessian against finite differences at rest and
+// in random deformed states for extreme materials, the projected Hessian, and a uniaxial stretch
+// that must recover Y and nu.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include <cstdio>
+
+#include "form_checks.hpp"
+#include "mesh_fixtures.hpp"
+#include "rbaa/material/lame.hpp"
+#include "rbaa/sim/elastic_form.hpp"
+
+namespace rbaa {
+namespace {
+
+// Alternating elements: Y = 6.5e11 with alpha = 1e-3 (a void next to a stiff neighbour) and the
+// reference Y = 1e13, alpha = 1.
+MaterialField extreme_field(int num_tets, double nu) {
+  MaterialField f = MaterialField::uniform(num_tets, 1e13, nu, 2500.0);
+  for (int e = 0; e < num_tets; e += 2) {
+    f.Y[e] = 6.5e11;
+    f.alpha[e] = 1e-3;
+  }
+  return f;
+}
+
+TEST(ElasticForm, DerivativesMatchFiniteDifferencesForExtremeMaterials) {
+  const TetMesh mesh = test::ball_mesh(0.1, 2);
+  SparseHessian H(mesh.T, mesh.num_vertices());
+  Eigen::Matrix3d stretch;
+  stretch << 1.05, 0.02, 0, -0.01, 0.97, 0.03, 0.0, 0.01, 1.02;
+  for (double nu : {0.2, 0.4}) {
+    const ElasticForm form(mesh, extreme_field(mesh.num_tets(), nu));
+    const std::vector<Eigen::VectorXd> states = {test::positions(mesh),
+                                                 test::deformed(mesh, 0.02, 1),
+                                                 test::deformed(mesh, 0.05, 2, stretch)};
+    for (std::size_t s = 0; s < states.size(); ++s) {
+      const test::FdErrors e = test::check_form(form, states[s], 1e-6, H);
+      std::printf("elastic nu=%.1f state %zu: gradient rel err %.2e, Hessian rel err %.2e\n", nu,
+                  s, e.gradient, e.hessian);
+      EXPECT_LE(e.gradient, 1e-6);
+      EXPECT_LE(e.hessian, 1e-6);
+    }
+  }
+}
+
+TEST(ElasticForm, EverySingleElementMaterialPassesOnItsOwn) {
+  // One tet per material, so that a soft element's error cannot hide under a stiff one's.
+  TetMesh tet;
+  tet.V.resize(4, 3);
+  tet.V << 0, 0, 0, 0.02, 0, 0, 0.003, 0.018, 0, 0.004, 0.005, 0.021;
+  tet.T.resize(1, 4);
+  tet.T << 0, 1, 2, 3;
+  SparseHessian H(tet.T, 4);
+  for (double Y : {2.5e9, 6.5e11, 1e13}) {
+    for (double nu : {0.2, 0.4}) {
+      for (double alpha : {1e-3, 1.0}) {
+        const ElasticForm form(tet, MaterialField::uniform(1, Y, nu, 2500.0, alpha));
+        for (unsigned seed : {1u, 2u, 3u}) {
+          const test::FdErrors e = test::check_form(form, test::deformed(tet, 0.03, seed), 1e-7, H);
+          EXPECT_LE(e.gradient, 1e-6) << Y << " " << nu << " " << alpha;
+          EXPECT_LE(e.hessian, 1e-6) << Y << " " << nu << " " << alpha;
+        }
+      }
+    }
+  }
+}
+
+TEST(ElasticForm, ValueDifferenceMatchesValues) {
+  const TetMesh mesh = test::ball_mesh(0.1, 2);
+  const ElasticForm form(mesh, extreme_field(mesh.num_tets(), 0.3));
+  const Eigen::VectorXd q0 = test::deformed(mesh, 0.03, 4), q1 = test::deformed(mesh, 0.03, 5);
+  const double d = form.value_difference(q0, q1);
+  EXPECT_NEAR(d, form.value(q1) - form.value(q0), 1e-12 * form.value(q1));
+}
+
+TEST(ElasticForm, ProjectedHessianIsPsdAndExactWhereExactIsPsd) {
+  const TetMesh mesh = test::ball_mesh(0.1, 2);
+  SparseHessian H(mesh.T, mesh.num_vertices());
+  const ElasticForm form(mesh, MaterialField::uniform(mesh.num_tets(), 1e9, 0.3, 1000.0));
+  const Eigen::VectorXd q = test::deformed(mesh, 0.0, 0, 0.95 * Eigen::Matrix3d::Identity());
+  const Eigen::MatrixXd Hp = test::form_hessian(form, q, HessianKind::kProjected, H);
+  const Eigen::MatrixXd Hx = test::form_hessian(form, q, HessianKind::kExact, H);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ep(Hp), ex(Hx);
+  EXPECT_LT(ex.eigenvalues().minCoeff(), -1e-6 * Hx.norm());  // compression: indefinite
+  EXPECT_GT(ep.eigenvalues().minCoeff(), -1e-12 * Hp.norm());
+  // At a stretched state every element Hessian is PSD... up to the rotation modes (zero).
+  const Eigen::VectorXd q2 = test::deformed(mesh, 0.0, 0, 1.01 * Eigen::Matrix3d::Identity());
+  const Eigen::MatrixXd Hp2 = test::form_hessian(form, q2, HessianKind::kProjected, H);
+  const Eigen::MatrixXd Hx2 = test::form_hessian(form, q2, HessianKind::kExact, H);
+  EXPECT_LT((Hp2 - Hx2).norm(), 1e-12 * Hx2.norm());
+}
+
+// Uniaxial stretch of a block: impose x -> (1 + eps) x, let the lateral strain delta relax
+// (the homogeneous state is an equilibrium of the free block), then Y = P_xx / eps and
+// nu = -delta / eps to O(eps).
+TEST(ElasticForm, UniaxialStretchRecoversYoungAndPoisson) {
+  const TetMesh mesh = test::box_mesh(3, 2, 2, 0.05);
+  const Eigen::VectorXd X = test::positions(mesh);
+  const double volume = 0.15 * 0.1 * 0.1;
+  const double eps = 1e-5;
+  for (double Y : {2.5e9, 1e13}) {
+    for (double nu : {0.2, 0.28, 0.4}) {
+      const ElasticForm form(mesh, MaterialField::uniform(mesh.num_tets(), Y, nu, 2500.0));
+      auto state = [&](double delta) {
+        Eigen::VectorXd q = X;
+        for (int v = 0; v < mesh.num_vertices(); ++v) {
+          q[3 * v] *= 1 + eps;
+          q[3 * v + 1] *= 1 + delta;
+          q[3 * v + 2] *= 1 + delta;
+        }
+        return q;
+      };
+      // dE/d delta = sum_v g_v . (0, y_v, z_v): zero at the relaxed lateral strain (linear in delta
+      // to O(eps), so a secant iteration converges in a few steps).
+      auto lateral = [&](double delta) {
+        const Eigen::VectorXd g = test::form_gradient(form, state(delta));
+        double s = 0;
+        for (int v = 0; v < mesh.num_vertices(); ++v) s += g[3 * v + 1] * X[3 * v + 1] + g[3 * v + 2] * X[3 * v + 2];
+        return s;
+      };
+      double d0 = 0, d1 = -0.3 * eps, f0 = lateral(d0), f1 = lateral(d1);
+      for (int it = 0; it < 20 && f1 != f0; ++it) {
+        const double d2 = d1 - f1 * (d1 - d0) / (f1 - f0);
+        d0 = d1;
+        f0 = f1;
+        d1 = d2;
+        f1 = lateral(d1);
+      }
+      const Eigen::VectorXd g = test::form_gradient(form, state(d1));
+      double dE_deps = 0;  // = V P_xx
+      for (int v = 0; v < mesh.num_vertices(); ++v) dE_deps += g[3 * v] * X[3 * v];
+      const double Y_measured = dE_deps / volume / eps;
+      const double nu_measured = -d1 / eps;
+      std::printf("uniaxial Y=%.3g nu=%.2f: Y rel err %.2e, nu rel err %.2e\n", Y, nu,
+                  Y_measured / Y - 1, nu_measured / nu - 1);
+      EXPECT_NEAR(Y_measured / Y, 1.0, 1e-3);
+      EXPECT_NEAR(nu_measured / nu, 1.0, 1e-3);
+    }
+  }
+}
+
+TEST(ElasticForm, ParameterSplitIsLinearInMuAndLambda) {
+  const TetMesh mesh = test::ball_mesh(0.1, 2);
+  const MaterialField field = extreme_field(mesh.num_tets(), 0.3);
+  const ElasticForm form(mesh, field);
+  const Eigen::VectorXd q = test::deformed(mesh, 0.03, 9);
+  const Eigen::VectorXd g = test::form_gradient(form, q);
+  Eigen::VectorXd g_sum = Eigen::VectorXd::Zero(q.size());
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    Eigen::Matrix<double, 12, 1> gm, gl;
+    form.element_gradient_parts(q, e, gm, gl);
+    for (int a = 0; a < 4; ++a) {
+      g_sum.segment<3>(3 * mesh.T(e, a)) +=
+          form.mu(e) * gm.segment<3>(3 * a) + form.lambda(e) * gl.segment<3>(3 * a);
+    }
+  }
+  EXPECT_LT((g - g_sum).norm(), 1e-12 * g.norm());
+}
+
+}  // namespace
+}  // namespace rbaa

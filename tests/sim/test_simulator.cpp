@@ -1,0 +1,262 @@
+// The forward simulator against invariants: momentum in free flight, the analytic parabola in free
+// fall, bounces that never cross a plane and stay bounded, energy loss where contact spans many
+// steps, determinism, and clear errors on bad input.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "mesh_fixtures.hpp"
+#include "rbaa/error.hpp"
+#include "rbaa/sim/barrier_stiffness.hpp"
+#include "rbaa/sim/observables.hpp"
+#include "rbaa/sim/parallel.hpp"
+#include "rbaa/sim/simulator.hpp"
+#include "rbaa/sim/threads.hpp"
+
+namespace rbaa {
+namespace {
+
+MaterialField reference_material(const TetMesh& mesh) {
+  return MaterialField::uniform(mesh.num_tets(), 1e13, 0.28, 2500.0);
+}
+
+Eigen::Vector3d com_velocity(const Trajectory& t, int k, const Eigen::VectorXd& masses) {
+  return centre_of_mass(t.velocity(k), masses);
+}
+
+TEST(Simulator, FreeFlightFromDeformedSpinningStartConservesLinearMomentum) {
+  const TetMesh mesh = test::box_mesh(2, 2, 2, 0.05);
+  MaterialField field = MaterialField::uniform(mesh.num_tets(), 2.5e9, 0.3, 2500.0);
+  for (int e = 0; e < mesh.num_tets(); e += 3) field.rho[e] = 11300;  // uneven mass
+  for (Integrator integrator : {Integrator::kBdf2, Integrator::kBdf1}) {
+    SimulationSettings s;
+    s.gravity.setZero();
+    s.time_step = 1e-3;
+    s.num_steps = 40;
+    s.integrator = integrator;
+    Simulator sim(mesh, field, s);
+    Eigen::Matrix3d A;
+    A << 1.02, 0.01, 0, 0, 0.99, 0.01, 0.005, 0, 1.01;
+    const Eigen::VectorXd q0 = test::deformed(mesh, 0.002, 5, A);
+    const Eigen::Vector3d c0 = centre_of_mass(q0, sim.vertex_masses());
+    const Eigen::VectorXd v0 =
+        rigid_velocities(q0, c0, Eigen::Vector3d(1.0, -0.5, 0.2), Eigen::Vector3d(20, -30, 40));
+    const Trajectory t = sim.run(q0, v0);
+    const Eigen::Vector3d P0 = linear_momentum(sim.inertia_form().multiply(v0));
+    double drift = 0;
+    for (int k = 1; k <= t.num_steps(); ++k) {
+      const Eigen::Vector3d P = linear_momentum(sim.inertia_form().multiply(t.velocity(k)));
+      drift = std::max(drift, (P - P0).norm() / P0.norm());
+    }
+    // The body really deforms: its elastic energy changes along the way.
+    const double e0 = sim.elastic_form().value(q0), e1 = sim.elastic_form().value(t.q.back());
+    std::printf("%s free flight: max relative momentum drift %.2e over %d steps, elastic energy %.3g -> %.3g J\n",
+                integrator == Integrator::kBdf2 ? "BDF-2" : "BDF-1", drift, t.num_steps(), e0, e1);
+    EXPECT_LE(drift, 1e-12);
+    EXPECT_GT(e0, 0);
+    EXPECT_NE(e0, e1);
+  }
+}
+
+TEST(Simulator, FreeFallFollowsTheAnalyticParabola) {
+  const TetMesh mesh = test::ball_mesh(0.121, 3, Eigen::Vector3d(0.3, -0.2, 3.0));
+  for (Integrator integrator : {Integrator::kBdf2, Integrator::kBdf1}) {
+    SimulationSettings s;
+    s.time_step = 0.01;
+    s.num_steps = 30;
+    s.integrator = integrator;
+    Simulator sim(mesh, reference_material(mesh), s);
+    const Eigen::VectorXd q0 = test::positions(mesh);
+    const Eigen::Vector3d c0 = centre_of_mass(q0, sim.vertex_masses());
+    const Eigen::Vector3d v0(-3.516, 3.516, 6.099);
+    const Trajectory t = sim.run(q0, rigid_velocities(q0, c0, v0, Eigen::Vector3d::Zero()));
+    double err = 0;
+    for (int k = 0; k <= t.num_steps(); ++k) {
+      const double time = t.time(k);
+      const Eigen::Vector3d exact = c0 + time * v0 + 0.5 * time * time * s.gravity;
+      err = std::max(err, (centre_of_mass(t.q[k], sim.vertex_masses()) - exact).norm());
+    }
+    std::printf("%s free fall: max centre-of-mass error %.2e m over %.2f s\n",
+                integrator == Integrator::kBdf2 ? "BDF-2" : "BDF-1", err, t.time(t.num_steps()));
+    EXPECT_LE(err, 1e-11);
+  }
+}
+
+struct BounceRun {
+  Trajectory trajectory;
+  std::vector<Bounce> bounces;
+  double min_distance = 1e300;
+  int max_iterations = 0;
+};
+
+BounceRun simulate_bounce(const TetMesh& mesh, const MaterialField& field, SimulationSettings s,
+                          const Eigen::Vector3d& v0) {
+  Simulator sim(mesh, field, s);
+  const Eigen::VectorXd q0 = test::positions(mesh);
+  const Eigen::Vector3d c0 = centre_of_mass(q0, sim.vertex_masses());
+  BounceRun r;
+  r.trajectory = sim.run(q0, rigid_velocities(q0, c0, v0, Eigen::Vector3d::Zero()));
+  std::vector<std::vector<double>> distances;
+  std::vector<Eigen::Vector3d> velocities;
+  const ContactSet& set = sim.contact_form().contact_set();
+  for (int k = 0; k <= r.trajectory.num_steps(); ++k) {
+    distances.push_back(set.min_distance_per_plane(r.trajectory.q[k]));
+    velocities.push_back(com_velocity(r.trajectory, k, sim.vertex_masses()));
+  }
+  r.bounces = find_bounces(distances, velocities, s.planes, s.d_hat);
+  for (const StepStats& st : r.trajectory.steps) {
+    r.min_distance = std::min(r.min_distance, st.min_distance);
+    r.max_iterations = std::max(r.max_iterations, st.newton_iterations);
+    EXPECT_GT(st.min_distance, 0.0);
+  }
+  for (const auto& q : r.trajectory.q) EXPECT_TRUE(q.allFinite());
+  return r;
+}
+
+TEST(Simulator, BallBouncesOffAPlaneWithoutCrossingIt) {
+  const TetMesh mesh = test::ball_mesh(0.121, 3, Eigen::Vector3d(0, 0, 0.121 + 0.05));
+  SimulationSettings s;
+  s.time_step = 0.01;
+  s.num_steps = 20;
+  Plane floor;
+  s.planes = {floor};
+  const Eigen::Vector3d v0(1.0, 0.0, -5.0);
+  s.kappa = barrier_stiffness_from_energy(2500 * 4.0 / 3.0 * M_PI * std::pow(0.121, 3), v0.norm(), s.d_hat);
+  const BounceRun r = simulate_bounce(mesh, reference_material(mesh), s, v0);
+  ASSERT_GE(r.bounces.size(), 1u);
+  const Bounce& b = r.bounces[0];
+  std::printf("ball on a plane: kappa %.3g, restitution %.3f, min distance %.2e m, max Newton iterations %d\n",
+              s.kappa, b.restitution, r.min_distance, r.max_iterations);
+  EXPECT_TRUE(b.complete);
+  EXPECT_LT(b.normal_velocity_in, 0);
+  EXPECT_GT(b.normal_velocity_out, 0);
+  EXPECT_LE(b.restitution, 1.3);
+  EXPECT_LT(r.min_distance, s.d_hat);
+}
+
+TEST(Simulator, BallBouncesOffTwoPerpendicularPlanes) {
+  const TetMesh mesh = test::ball_mesh(0.121, 3, Eigen::Vector3d(0, 0.121 + 0.04, 0.121 + 0.06));
+  SimulationSettings s;
+  s.time_step = 0.01;
+  s.num_steps = 25;
+  s.gravity.setZero();
+  Plane floor, wall;
+  wall.normal = Eigen::Vector3d::UnitY();
+  s.planes = {floor, wall};
+  const Eigen::Vector3d v0(0.0, -5.0, -5.0);
+  s.kappa = barrier_stiffness_from_energy(2500 * 4.0 / 3.0 * M_PI * std::pow(0.121, 3), v0.norm(), s.d_hat);
+  const BounceRun r = simulate_bounce(mesh, reference_material(mesh), s, v0);
+  bool floor_hit = false, wall_hit = false;
+  for (const Bounce& b : r.bounces) {
+    std::printf("two planes: plane %d steps %d-%d restitution %.3f\n", b.plane, b.first_step,
+                b.last_step, b.restitution);
+    EXPECT_TRUE(b.complete);
+    EXPECT_LE(b.restitution, 1.3);
+    EXPECT_GT(b.normal_velocity_out, 0);
+    (b.plane == 0 ? floor_hit : wall_hit) = true;
+  }
+  EXPECT_TRUE(floor_hit);
+  EXPECT_TRUE(wall_hit);
+}
+
+TEST(Simulator, ContactSpanningManyStepsLosesEnergy) {
+  // Small h and a slow impact: the contact lasts tens of steps and BDF-2's damping shows.
+  const TetMesh mesh = test::lifted(test::ball_mesh(0.121, 3), 0.002);
+  SimulationSettings s;
+  s.time_step = 1e-4;
+  s.num_steps = 200;
+  s.gravity.setZero();
+  Plane floor;
+  s.planes = {floor};
+  const Eigen::Vector3d v0(0.0, 0.0, -0.5);
+  s.kappa = barrier_stiffness_from_energy(2500 * 4.0 / 3.0 * M_PI * std::pow(0.121, 3), v0.norm(), s.d_hat);
+  const BounceRun r = simulate_bounce(mesh, reference_material(mesh), s, v0);
+  ASSERT_EQ(r.bounces.size(), 1u);
+  const Bounce& b = r.bounces[0];
+  std::printf("slow contact over %d steps: restitution %.4f\n", b.last_step - b.first_step + 1, b.restitution);
+  EXPECT_TRUE(b.complete);
+  EXPECT_GE(b.last_step - b.first_step + 1, 5);
+  EXPECT_GT(b.restitution, 0.0);
+  EXPECT_LT(b.restitution, 1.0);
+}
+
+TEST(Simulator, ResultsDoNotDependOnTheThreadCount) {
+  // 3072 tets: above the size at which the element loops go parallel.
+  const TetMesh mesh = test::lifted(test::ball_mesh(0.121, 8), 0.02);
+  ASSERT_GT(mesh.num_tets(), kParallelElements);
+  SimulationSettings s;
+  s.num_steps = 6;
+  Plane floor;
+  s.planes = {floor};
+  s.kappa = 4e7;
+  Trajectory runs[2];
+  const int threads = simulation_threads();
+  for (int i = 0; i < 2; ++i) {
+    set_simulation_threads(i == 0 ? 1 : 2);
+    Simulator sim(mesh, reference_material(mesh), s);
+    const Eigen::VectorXd q0 = test::positions(mesh);
+    runs[i] = sim.run(q0, rigid_velocities(q0, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, -4),
+                                           Eigen::Vector3d::Zero()));
+  }
+  set_simulation_threads(threads);
+  for (int k = 0; k <= s.num_steps; ++k) EXPECT_EQ((runs[0].q[k] - runs[1].q[k]).norm(), 0.0);
+}
+
+TEST(Simulator, BadInputGivesClearErrors) {
+  const TetMesh mesh = test::ball_mesh(0.1, 2, Eigen::Vector3d(0, 0, 0.1));
+  const MaterialField field = MaterialField::uniform(mesh.num_tets(), 1e9, 0.3, 1000.0);
+  SimulationSettings s;
+  Plane floor;
+  s.planes = {floor};
+  s.kappa = 1e5;
+  // Touching the plane (the lowest vertex is at z = 0).
+  {
+    Simulator sim(mesh, field, s);
+    const Eigen::VectorXd q0 = test::positions(mesh);
+    try {
+      sim.reset(q0, Eigen::VectorXd::Zero(q0.size()));
+      FAIL() << "no error for a body touching a plane";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("touching plane 0"), std::string::npos) << e.what();
+    }
+  }
+  for (double h : {std::nan(""), -0.01, 0.0}) {
+    SimulationSettings bad = s;
+    bad.time_step = h;
+    try {
+      Simulator sim(mesh, field, bad);
+      FAIL() << "no error for h = " << h;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("time step"), std::string::npos) << e.what();
+    }
+  }
+  try {
+    Simulator sim(mesh, MaterialField::uniform(mesh.num_tets() - 1, 1e9, 0.3, 1000.0), s, "mat.csv");
+    FAIL() << "no error for a wrong element count";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mat.csv"), std::string::npos) << e.what();
+  }
+  SimulationSettings no_kappa = s;
+  no_kappa.kappa = 0;
+  EXPECT_THROW(Simulator(mesh, field, no_kappa), InputError);
+}
+
+TEST(Simulator, NonConvergenceIsAnErrorNamingTheStep) {
+  const TetMesh mesh = test::ball_mesh(0.1, 2, Eigen::Vector3d(0, 0, 1));
+  SimulationSettings s;
+  s.num_steps = 3;
+  s.newton_max_iterations = 1;
+  Simulator sim(mesh, MaterialField::uniform(mesh.num_tets(), 1e9, 0.3, 1000.0), s);
+  const Eigen::VectorXd q0 = test::deformed(mesh, 0.01, 1);
+  try {
+    sim.run(q0, Eigen::VectorXd::Zero(q0.size()));
+    FAIL() << "no error";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("step 1 "), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rbaa
