@@ -1,0 +1,93 @@
+#pragma once
+// `rbaa evaluate`: the paper's demonstration. Four runs of one scene: the reference and the
+// adversarial object, each as a rigid body (Bullet) and as a deformable body (FEM). As rigid
+// bodies the two must move identically; as deformable bodies they should not.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/material/material_field.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+#include "rbaa/rigid/rigid_simulation.hpp"
+#include "rbaa/scene/scene.hpp"
+
+namespace rbaa {
+
+/// One run sampled at the scene's time step (N + 1 samples).
+struct RunTrace {
+  std::string name;
+  std::vector<double> time;
+  std::vector<Eigen::Vector3d> position;     ///< centre of mass (m)
+  std::vector<Eigen::Vector3d> velocity;     ///< centre of mass (m/s)
+  std::vector<Eigen::Quaterniond> orientation;  ///< rotation from the initial pose
+  double seconds = 0;                        ///< wall time
+};
+
+/// How two runs differ at the end time T.
+struct RunComparison {
+  std::string a, b;
+  double position_gap = 0;    ///< |x_a(T) - x_b(T)| (m)
+  double max_position_gap = 0;  ///< max over all samples (m)
+  double velocity_angle_deg = 0;  ///< angle between v_a(T) and v_b(T)
+  double orientation_gap_deg = 0; ///< angle of R_a(T) R_b(T)^T
+};
+
+/// The rigid restitution fitted to the deformable baseline's first bounce.
+struct RestitutionCalibration {
+  bool calibrated = false;      ///< false when the baseline never completes a bounce
+  int plane = -1;
+  double deformable_rebound = 0;  ///< -v_n,out / v_n,in of the baseline's first bounce
+  double rigid_rebound = 0;       ///< the same ratio for the rigid reference, fitted
+  double restitution = 1.0;       ///< Bullet's body restitution that achieves it
+  int iterations = 0;
+  std::vector<double> later_deformable_rebounds;  ///< baseline's later bounces (impact phase)
+};
+
+struct EvaluationOptions {
+  double duration = 0;          ///< seconds; <= 0: 4 x the scene's (attack) duration
+  RigidSettings rigid;          ///< restitution is overwritten by the calibration
+  double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
+};
+
+struct Evaluation {
+  double duration = 0;
+  double kappa = 0;
+  Moments reference_moments, adversarial_moments;
+  std::string rigid_shape;        ///< which Bullet collision shape, and why
+  double rigid_internal_step = 0;
+  RestitutionCalibration calibration;
+  RunTrace rigid_reference, rigid_adversarial, deformable_reference, deformable_adversarial;
+  RunComparison rigid_vs_rigid, deformable_vs_deformable, deformable_vs_rigid;
+  double attack_advantage = 0;  ///< deformable_vs_deformable gap / deformable_vs_rigid gap
+};
+
+/// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's
+/// initial pose; the reference uses the scene's uniform reference material. Throws
+/// rbaa::InputError if the adversarial object's outer surface is not the reference's or its
+/// materials do not fit its mesh.
+Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,
+                    const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
+                    const EvaluationOptions& options = {});
+
+/// Compares two traces sampled at the same times.
+RunComparison compare_runs(const RunTrace& a, const RunTrace& b);
+
+/// Fits Bullet's restitution so that the rigid reference's first rebound off `plane` (the ratio
+/// of the centre of mass's normal velocities after and before) equals `target`.
+RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
+                                             const RigidShape& shape, const Scene& scene,
+                                             RigidSettings settings, double duration, int plane,
+                                             double target, double tolerance);
+
+/// The first rebound ratio of a rigid trace off plane `plane` (NaN if none).
+double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
+                           double gravity_speed_per_step);
+
+/// DIR/report.json, DIR/summary.md, DIR/<run>.csv and DIR/paths.{gp,png}.
+void write_evaluation(const Evaluation& evaluation, const Scene& scene, const std::string& dir);
+
+}  // namespace rbaa

@@ -1,0 +1,216 @@
+#include "rbaa/eval/evaluation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "rbaa/error.hpp"
+#include "rbaa/mesh/topology.hpp"
+#include "rbaa/sim/barrier_stiffness.hpp"
+#include "rbaa/sim/simulate.hpp"
+
+namespace rbaa {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double na = a.norm(), nb = b.norm();
+  if (!(na > 0) || !(nb > 0)) return 0.0;
+  // atan2 of |a x b| and a.b stays accurate for tiny angles, unlike acos.
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
+}
+
+RunTrace trace_from_rigid(const std::string& name, const std::vector<RigidState>& states, double seconds) {
+  RunTrace t;
+  t.name = name;
+  t.seconds = seconds;
+  for (const auto& s : states) {
+    t.time.push_back(s.time);
+    t.position.push_back(s.position);
+    t.velocity.push_back(s.velocity);
+    t.orientation.push_back(s.orientation);
+  }
+  return t;
+}
+
+RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run) {
+  RunTrace t;
+  t.name = name;
+  t.seconds = run.setup_seconds + run.simulate_seconds;
+  for (const auto& o : run.observables) {
+    t.time.push_back(o.time);
+    t.position.push_back(o.centre_of_mass);
+    t.velocity.push_back(o.com_velocity);
+    t.orientation.push_back(o.orientation);
+  }
+  return t;
+}
+
+// The adversarial object must have the reference's outer surface: every reference boundary
+// vertex is an adversarial vertex, and the bounding boxes agree.
+void check_same_surface(const TetMesh& reference, const TetMesh& adversarial, const std::string& what) {
+  const double size = bounding_box_diagonal(reference);
+  const double tol = 1e-9 * size;
+  const Eigen::RowVector3d dlo = reference.V.colwise().minCoeff() - adversarial.V.colwise().minCoeff();
+  const Eigen::RowVector3d dhi = reference.V.colwise().maxCoeff() - adversarial.V.colwise().maxCoeff();
+  if (dlo.cwiseAbs().maxCoeff() > tol || dhi.cwiseAbs().maxCoeff() > tol) {
+    throw InputError(what + ": the adversarial object's bounding box differs from the scene's "
+                     "reference object (is it placed at the scene's initial pose, from the same scene?)");
+  }
+  std::vector<std::array<double, 3>> adv(adversarial.num_vertices());
+  for (int i = 0; i < adversarial.num_vertices(); ++i) adv[i] = {adversarial.V(i, 0), adversarial.V(i, 1), adversarial.V(i, 2)};
+  std::sort(adv.begin(), adv.end());
+  for (int v : boundary_vertices(reference)) {
+    const std::array<double, 3> p = {reference.V(v, 0), reference.V(v, 1), reference.V(v, 2)};
+    auto it = std::lower_bound(adv.begin(), adv.end(), std::array<double, 3>{p[0] - tol, -INFINITY, -INFINITY});
+    bool found = false;
+    for (; it != adv.end() && (*it)[0] <= p[0] + tol && !found; ++it) {
+      found = std::abs((*it)[1] - p[1]) <= tol && std::abs((*it)[2] - p[2]) <= tol;
+    }
+    if (!found) {
+      std::ostringstream msg;
+      msg << what << ": the adversarial object's surface is not the reference's (reference surface vertex "
+          << v << " at (" << p[0] << ", " << p[1] << ", " << p[2] << ") is missing)";
+      throw InputError(msg.str());
+    }
+  }
+}
+
+}  // namespace
+
+RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
+  RunComparison c;
+  c.a = a.name;
+  c.b = b.name;
+  const size_t n = std::min(a.position.size(), b.position.size());
+  if (n == 0) return c;
+  for (size_t i = 0; i < n; ++i) c.max_position_gap = std::max(c.max_position_gap, (a.position[i] - b.position[i]).norm());
+  c.position_gap = (a.position[n - 1] - b.position[n - 1]).norm();
+  c.velocity_angle_deg = angle_deg(a.velocity[n - 1], b.velocity[n - 1]);
+  c.orientation_gap_deg = a.orientation[n - 1].angularDistance(b.orientation[n - 1]) * 180.0 / M_PI;
+  return c;
+}
+
+double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
+                           double gravity_speed_per_step) {
+  for (size_t k = 0; k + 1 < states.size(); ++k) {
+    const double in = states[k].velocity.dot(plane.normal);
+    const double out = states[k + 1].velocity.dot(plane.normal);
+    // An impact changes the normal velocity by far more than gravity does in one step.
+    if (in < 0 && out - in > 10 * gravity_speed_per_step + 1e-9 * std::abs(in)) return -out / in;
+  }
+  return std::nan("");
+}
+
+RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
+                                             const RigidShape& shape, const Scene& scene,
+                                             RigidSettings settings, double duration, int plane,
+                                             double target, double tolerance) {
+  RestitutionCalibration c;
+  c.plane = plane;
+  c.deformable_rebound = target;
+  const double g_step = scene.gravity.norm() * scene.time_step;
+  auto rebound = [&](double e) {
+    settings.restitution = e;
+    ++c.iterations;
+    return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration),
+                               scene.planes[plane], g_step);
+  };
+  // Secant on f(e) = rebound(e) - target, starting from e = target (exact for a sphere).
+  double e0 = std::max(target, 0.0), f0 = rebound(e0) - target;
+  if (std::isnan(f0)) return c;  // the rigid body never bounces off that plane
+  double e1 = e0 * 1.05 + 1e-3, f1 = rebound(e1) - target;
+  for (int it = 0; it < 30 && std::abs(f0) > tolerance * std::abs(target); ++it) {
+    if (std::isnan(f1) || f1 == f0) break;
+    const double e2 = std::clamp(e1 - f1 * (e1 - e0) / (f1 - f0), 0.0, 3.0);
+    e0 = e1;
+    f0 = f1;
+    e1 = e2;
+    f1 = rebound(e1) - target;
+    if (std::abs(f1) < std::abs(f0)) {
+      std::swap(e0, e1);
+      std::swap(f0, f1);
+    }
+  }
+  c.calibrated = std::abs(f0) <= tolerance * std::abs(target);
+  c.restitution = e0;
+  c.rigid_rebound = f0 + target;
+  return c;
+}
+
+Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
+                    const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
+                    const EvaluationOptions& options) {
+  validate_material_field(adversarial_materials, adversarial_mesh.num_tets(), "adversarial materials");
+  check_same_surface(reference_mesh, adversarial_mesh, "adversarial mesh");
+  Evaluation ev;
+  Scene scene = scene_in;
+  ev.duration = options.duration > 0 ? options.duration : 4.0 * scene_in.duration;
+  scene.duration = ev.duration;
+
+  const MaterialField reference_materials = MaterialField::uniform(
+      reference_mesh.num_tets(), scene.reference_Y, scene.reference_nu, scene.reference_rho, 1.0);
+  ev.reference_moments = compute_moments(reference_mesh, reference_materials.effective_density());
+  ev.adversarial_moments = compute_moments(adversarial_mesh, adversarial_materials.effective_density());
+  ev.kappa = scene_barrier_stiffness(scene_in, reference_mesh);
+
+  // Deformable runs with the reference scene's frozen kappa.
+  SimulationOptions sim_options;
+  sim_options.kappa = ev.kappa;
+  const SimulationRun baseline = run_simulation(scene, reference_mesh, reference_materials, sim_options);
+  ev.deformable_reference = trace_from_deformable("deformable reference", baseline);
+  const SimulationRun adversarial = run_simulation(scene, adversarial_mesh, adversarial_materials, sim_options);
+  ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial);
+
+  // Rigid twins, each from its own mesh and materials.
+  const RigidMassProperties ref_mass = rigid_mass_properties(ev.reference_moments);
+  const RigidMassProperties adv_mass = rigid_mass_properties(ev.adversarial_moments);
+  const RigidShape ref_shape = rigid_shape_from_surface(reference_mesh);
+  const RigidShape adv_shape = rigid_shape_from_surface(adversarial_mesh);
+  ev.rigid_shape = ref_shape.describe();
+  if (ref_shape.kind == RigidShapeKind::kConvexHull) {
+    ev.rigid_shape += " (exact against planes: a plane first touches a body at a hull vertex)";
+  }
+  RigidSettings rigid = options.rigid;
+  rigid.margin = std::min(rigid.margin, scene.d_hat);
+  const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
+  ev.rigid_internal_step = scene.time_step / substeps;
+
+  const Bounce* first = nullptr;
+  for (const Bounce& b : baseline.bounces) {
+    if (!b.complete) continue;
+    if (!first) {
+      first = &b;
+    } else {
+      ev.calibration.later_deformable_rebounds.push_back(b.restitution);
+    }
+  }
+  if (first) {
+    const auto later = ev.calibration.later_deformable_rebounds;
+    ev.calibration = calibrate_restitution(ref_mass, ref_shape, scene, rigid, ev.duration, first->plane,
+                                           first->restitution, options.calibration_tolerance);
+    ev.calibration.later_deformable_rebounds = later;
+    rigid.restitution = ev.calibration.restitution;
+  }
+
+  auto start = std::chrono::steady_clock::now();
+  const auto rigid_ref = simulate_rigid(ref_mass, ref_shape, scene, rigid, ev.duration);
+  ev.rigid_reference = trace_from_rigid("rigid reference", rigid_ref, seconds_since(start));
+  start = std::chrono::steady_clock::now();
+  const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, rigid, ev.duration);
+  ev.rigid_adversarial = trace_from_rigid("rigid adversarial", rigid_adv, seconds_since(start));
+
+  ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);
+  ev.deformable_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_adversarial);
+  ev.deformable_vs_rigid = compare_runs(ev.deformable_reference, ev.rigid_reference);
+  ev.attack_advantage = ev.deformable_vs_rigid.position_gap > 0
+                            ? ev.deformable_vs_deformable.position_gap / ev.deformable_vs_rigid.position_gap
+                            : INFINITY;
+  return ev;
+}
+
+}  // namespace rbaa

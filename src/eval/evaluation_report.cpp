@@ -1,0 +1,128 @@
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "rbaa/error.hpp"
+#include "rbaa/eval/evaluation.hpp"
+#include "rbaa/eval/path_plot.hpp"
+#include "rbaa/io/atomic_file.hpp"
+#include "rbaa/io/number_text.hpp"
+
+namespace rbaa {
+namespace {
+
+nlohmann::json moments_json(const Moments& m) {
+  const MomentVector v = m.as_vector();
+  return std::vector<double>(v.data(), v.data() + 10);
+}
+
+nlohmann::json comparison_json(const RunComparison& c) {
+  return {{"runs", {c.a, c.b}},
+          {"com_gap_m", c.position_gap},
+          {"max_com_gap_m", c.max_position_gap},
+          {"velocity_angle_deg", c.velocity_angle_deg},
+          {"orientation_gap_deg", c.orientation_gap_deg}};
+}
+
+std::string file_name(const RunTrace& t) {
+  std::string s = t.name;
+  std::replace(s.begin(), s.end(), ' ', '_');
+  return s + ".csv";
+}
+
+void write_trace_csv(const std::string& path, const RunTrace& t) {
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "time,com_x,com_y,com_z,vel_x,vel_y,vel_z,quat_w,quat_x,quat_y,quat_z\n";
+    for (size_t i = 0; i < t.time.size(); ++i) {
+      const auto& p = t.position[i];
+      const auto& v = t.velocity[i];
+      const auto& q = t.orientation[i];
+      out << exact(t.time[i]) << ',' << exact(p.x()) << ',' << exact(p.y()) << ',' << exact(p.z()) << ','
+          << exact(v.x()) << ',' << exact(v.y()) << ',' << exact(v.z()) << ',' << exact(q.w()) << ','
+          << exact(q.x()) << ',' << exact(q.y()) << ',' << exact(q.z()) << '\n';
+    }
+  });
+}
+
+std::string fmt(double x, int precision = 4) {
+  std::ostringstream out;
+  out << std::setprecision(precision) << x;
+  return out.str();
+}
+
+}  // namespace
+
+void write_evaluation(const Evaluation& ev, const Scene& scene, const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir + ": cannot create output folder (" + ec.message() + ")");
+
+  const RunTrace* runs[] = {&ev.rigid_reference, &ev.rigid_adversarial, &ev.deformable_reference,
+                            &ev.deformable_adversarial};
+  nlohmann::json timing, files;
+  for (const RunTrace* t : runs) {
+    write_trace_csv(dir + "/" + file_name(*t), *t);
+    timing[t->name] = t->seconds;
+    files[t->name] = file_name(*t);
+  }
+  std::vector<PathSeries> series;
+  for (const RunTrace* t : runs) {
+    PathSeries s{t->name, Eigen::MatrixXd(t->position.size(), 3)};
+    for (size_t i = 0; i < t->position.size(); ++i) s.points.row(i) = t->position[i].transpose();
+    series.push_back(std::move(s));
+  }
+  const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths", series, scene.planes);
+
+  const auto& cal = ev.calibration;
+  nlohmann::json report = {
+      {"scene", scene.name},
+      {"duration_s", ev.duration},
+      {"time_step_s", scene.time_step},
+      {"kappa", ev.kappa},
+      {"moments", {{"reference", moments_json(ev.reference_moments)},
+                   {"adversarial", moments_json(ev.adversarial_moments)}}},
+      {"rigid", {{"simulator", "Bullet (double precision), semi-implicit Euler"},
+                 {"internal_step_s", ev.rigid_internal_step},
+                 {"collision_shape", ev.rigid_shape}}},
+      {"calibration", {{"calibrated", cal.calibrated},
+                       {"plane", cal.plane},
+                       {"deformable_first_rebound", cal.deformable_rebound},
+                       {"rigid_first_rebound", cal.rigid_rebound},
+                       {"restitution", cal.restitution},
+                       {"iterations", cal.iterations},
+                       {"deformable_later_rebounds", cal.later_deformable_rebounds}}},
+      {"rigid_vs_rigid", comparison_json(ev.rigid_vs_rigid)},
+      {"deformable_vs_deformable", comparison_json(ev.deformable_vs_deformable)},
+      {"deformable_vs_rigid", comparison_json(ev.deformable_vs_rigid)},
+      {"attack_advantage", ev.attack_advantage},
+      {"rigid_identical", ev.rigid_vs_rigid.max_position_gap <= 1e-9},
+      {"timing_s", timing},
+      {"files", files},
+      {"plot", png.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(png).filename().string())}};
+  write_file_atomically(dir + "/report.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+
+  write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
+    out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
+        << "Duration " << fmt(ev.duration) << " s, step " << fmt(scene.time_step) << " s. Rigid: Bullet ("
+        << ev.rigid_shape << "), restitution " << fmt(cal.restitution, 6)
+        << (cal.calibrated ? " fitted to" : " (not calibrated: no complete baseline bounce)")
+        << " the deformable baseline's first rebound " << fmt(cal.deformable_rebound, 6) << ".\n\n"
+        << "| pair | centre-of-mass gap at T (m) | max gap (m) | velocity angle (deg) | orientation gap (deg) |\n"
+        << "|---|---|---|---|---|\n";
+    for (const RunComparison* c : {&ev.rigid_vs_rigid, &ev.deformable_vs_deformable, &ev.deformable_vs_rigid}) {
+      out << "| " << c->a << " vs " << c->b << " | " << fmt(c->position_gap) << " | " << fmt(c->max_position_gap)
+          << " | " << fmt(c->velocity_angle_deg) << " | " << fmt(c->orientation_gap_deg) << " |\n";
+    }
+    out << "\nThe adversarial object's deformable gap is " << fmt(ev.attack_advantage, 3)
+        << " x the gap between the stiff deformable baseline and the rigid reference.\n";
+    out << "As rigid bodies the two objects are " << (ev.rigid_vs_rigid.max_position_gap <= 1e-9 ? "" : "NOT ")
+        << "identical (max gap " << fmt(ev.rigid_vs_rigid.max_position_gap) << " m, bar 1e-9 m).\n\n";
+    out << "| run | wall time (s) | CSV |\n|---|---|---|\n";
+    for (const RunTrace* t : runs) out << "| " << t->name << " | " << fmt(t->seconds) << " | " << file_name(*t) << " |\n";
+    if (!png.empty()) out << "\n![paths](paths.png)\n";
+  });
+}
+
+}  // namespace rbaa

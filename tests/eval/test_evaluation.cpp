@@ -1,0 +1,88 @@
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Dense>
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "rbaa/error.hpp"
+#include "rbaa/eval/evaluation.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
+
+namespace rbaa {
+namespace {
+
+// A ball of ~400 tets thrown at a wall without gravity: one bounce within 0.2 s.
+Scene ball_scene() {
+  return parse_scene(
+      "mesh: {shape: sphere, radius: 0.1, target_tets: 400}\n"
+      "object: {position: [0, -0.15, 0.5], velocity: [0.5, 2.0, 0], angular_velocity: [0, 0, 3]}\n"
+      "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
+      "gravity: off\n"
+      "time: {step: 0.01, duration: 0.05}\n",
+      "ball_test.yaml", "");
+}
+
+// Same moments as the uniform reference, different density and stiffness.
+MaterialField adversarial_field(const TetMesh& mesh, const Scene& scene) {
+  MaterialField f = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, scene.reference_rho, 1.0);
+  const Eigen::MatrixXd S = moment_operator(mesh);
+  std::srand(3);
+  const Eigen::VectorXd r = Eigen::VectorXd::Random(mesh.num_tets()) * 800.0;
+  f.rho += r - S.transpose() * (S * S.transpose()).ldlt().solve(S * r);
+  for (int e = 0; e < mesh.num_tets(); ++e) f.Y[e] = (e % 3 == 0) ? 5e9 : 6.5e11;
+  return f;
+}
+
+TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
+  const Scene scene = ball_scene();
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField adv = adversarial_field(mesh, scene);
+  EvaluationOptions options;
+  options.duration = 0.2;
+  const Evaluation ev = evaluate(scene, mesh, mesh, adv, options);
+
+  // Calibration: the rigid reference reproduces the baseline's first rebound within 1 %.
+  ASSERT_TRUE(ev.calibration.calibrated);
+  EXPECT_GT(ev.calibration.deformable_rebound, 0.1);
+  EXPECT_NEAR(ev.calibration.rigid_rebound / ev.calibration.deformable_rebound, 1.0, 0.01);
+  // Equal moments: identical rigid trajectories; the deformable ones may differ.
+  EXPECT_LT(ev.rigid_vs_rigid.max_position_gap, 1e-9);
+  EXPECT_LT(ev.rigid_vs_rigid.orientation_gap_deg, 1e-6);
+  EXPECT_EQ(ev.rigid_reference.position.size(), 21u);
+  EXPECT_EQ(ev.deformable_adversarial.position.size(), 21u);
+  EXPECT_NEAR((ev.reference_moments.as_vector() - ev.adversarial_moments.as_vector()).norm() /
+                  ev.reference_moments.m0, 0.0, 1e-10);
+
+  const std::string dir = ::testing::TempDir() + "/rbaa_eval_" + std::to_string(::getpid());
+  write_evaluation(ev, scene, dir);
+  std::ifstream in(dir + "/report.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["moments"]["reference"].size(), 10u);
+  EXPECT_DOUBLE_EQ(report["deformable_vs_deformable"]["com_gap_m"].get<double>(),
+                   ev.deformable_vs_deformable.position_gap);
+  EXPECT_DOUBLE_EQ(report["calibration"]["restitution"].get<double>(), ev.calibration.restitution);
+  for (const char* f : {"summary.md", "rigid_reference.csv", "rigid_adversarial.csv",
+                        "deformable_reference.csv", "deformable_adversarial.csv", "paths.gp"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Evaluation, MismatchedObjectsAreRejected) {
+  const Scene scene = ball_scene();
+  const TetMesh mesh = make_scene_mesh(scene);
+  TetMesh other = mesh;
+  other.V.col(0) *= 1.01;  // not the same surface
+  const MaterialField adv = MaterialField::uniform(mesh.num_tets(), 1e10, 0.3, 2500);
+  EXPECT_THROW(evaluate(scene, mesh, other, adv), InputError);
+  const MaterialField short_field = MaterialField::uniform(mesh.num_tets() - 1, 1e10, 0.3, 2500);
+  EXPECT_THROW(evaluate(scene, mesh, mesh, short_field), InputError);
+}
+
+}  // namespace
+}  // namespace rbaa
