@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
   char** new_argv = args.data();
   gflags::ParseCommandLineFlags(&new_argc, &new_argv, true);
   if (new_argc > 1) {
-    std::cerr << "rbaa: unexpected argument '" << new_argv[1] << "' (see rbaa --help)\n";
+    std::cerr << "rbaa: error: unexpected argument '" << new_argv[1] << "' (see rbaa --help)\n";
     return 2;
   }
 
@@ -85,6 +85,6 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  std::cerr << "rbaa: unknown verb '" << verb_name << "' (see rbaa --help)\n";
+  std::cerr << "rbaa: error: unknown verb '" << verb_name << "' (see rbaa --help)\n";
   return 2;
 }

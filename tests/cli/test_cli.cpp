@@ -16,57 +16,12 @@
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
 
+#include "cli/cli_fixture.hpp"
+
 namespace {
 
-struct Result {
-  int exit_code;
-  std::string out;  // stdout
-  std::string err;  // stderr
-};
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = std::filesystem::path(::testing::TempDir()) / ("rbaa_cli_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  Result run(const std::string& args) {
-    const std::string err_file = (dir_ / "stderr.txt").string();
-    const std::string cmd = std::string(RBAA_EXECUTABLE) + " " + args + " 2>" + err_file;
-    Result r{0, "", ""};
-    FILE* pipe = popen(cmd.c_str(), "r");
-    char buffer[4096];
-    while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) r.out.append(buffer, n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(err_file);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    r.err = ss.str();
-    return r;
-  }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-  static std::string slurp(const std::string& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
-
-  // A failing command: non-zero exit, one line on stderr naming what is wrong.
-  void expect_failure(const std::string& args, const std::string& fragment) {
-    const Result r = run(args);
-    EXPECT_NE(r.exit_code, 0) << args;
-    EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  }
-
-  std::filesystem::path dir_;
-};
+using rbaa_cli_test::Cli;
+using rbaa_cli_test::Result;
 
 TEST_F(Cli, MeshingIsByteIdenticalRunToRun) {
   // A probe saw the cube's tet count change from run to run before CGAL's seed was fixed.

@@ -1,0 +1,82 @@
+// rbaa simulate and rbaa evaluate as a user runs them: outputs, and clear errors on bad input.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Dense>
+
+#include "cli/cli_fixture.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/io/materials_io.hpp"
+#include "rbaa/io/tet_mesh_file.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
+
+namespace {
+
+using rbaa_cli_test::Cli;
+using rbaa_cli_test::Result;
+
+const char* kTinyBall =
+    "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
+    "object: {position: [0, -0.13, 0.5], velocity: [0, 2.0, 0]}\n"
+    "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
+    "gravity: off\n"
+    "time: {step: 0.01, duration: 0.05}\n";
+
+class CliSimulate : public Cli {
+ protected:
+  std::string write_config(const std::string& name, const std::string& text) {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+};
+
+TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  const Result r = run("simulate --config=" + config + " --out=" + path("sim"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("sim/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["newton"]["iterations_per_step"].size(), 5u);
+  EXPECT_GT(report["kappa"].get<double>(), 0.0);
+  std::ifstream csv(path("sim/trajectory.csv"));
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, 1 + 6);  // header + q_0 .. q_5
+  EXPECT_TRUE(std::filesystem::exists(path("sim/trajectory.pvd")));
+  // --set overrides a config value from the command line.
+  const Result shorter = run("simulate --config=" + config + " --set=time.duration=0.02 --out=" + path("sim2"));
+  ASSERT_EQ(shorter.exit_code, 0) << shorter.err;
+  std::ifstream in2(path("sim2/report.json"));
+  EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["iterations_per_step"].size(), 2u);
+}
+
+TEST_F(CliSimulate, BadInputGivesOneLineErrors) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  std::ofstream(path("few.csv")) << "Y,nu,rho,alpha\n1e10,0.3,2500,1\n";
+  expect_failure("simulate --config=" + config + " --materials=" + path("few.csv") + " --out=" + path("o"), "few.csv");
+  const std::string touching = write_config(
+      "touching.yaml", std::string(kTinyBall) + "contact: {d_hat: 0.05}\n");
+  expect_failure("simulate --config=" + touching + " --out=" + path("o"), "touching");
+  const std::string bad_h = write_config("bad_h.yaml", std::string(kTinyBall).replace(
+      std::string(kTinyBall).find("step: 0.01"), 10, "step: -0.01"));
+  expect_failure("simulate --config=" + bad_h + " --out=" + path("o"), "time.step");
+  expect_failure("simulate --config=" + path("missing.yaml") + " --out=" + path("o"), "missing.yaml");
+  expect_failure("simulate --config=" + config + " --set=time.stepp=1 --out=" + path("o"), "time.stepp");
+}
+
+TEST_F(CliSimulate, EvaluateRejectsMissingAndMismatchedObjects) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  expect_failure("evaluate --config=" + config + " --adversarial=" + path("none.msh") + " --out=" + path("e"),
+                 "none.msh");
+  // A mesh that is not the scene's object.
+  ASSERT_EQ(run("mesh --shape=cube --target_tets=300 --out=" + path("cube.msh")).exit_code, 0);
+  const rbaa::TetMesh cube = rbaa::read_tet_mesh(path("cube.msh")).mesh;
+  rbaa::write_tet_mesh(path("cube_adv.msh"), cube,
+                       rbaa::material_element_data(rbaa::MaterialField::uniform(cube.num_tets(), 1e10, 0.3, 2500)));
+  expect_failure("evaluate --config=" + config + " --adversarial=" + path("cube_adv.msh") + " --out=" + path("e"),
+                 "reference object");
+}
+
+}  // namespace
