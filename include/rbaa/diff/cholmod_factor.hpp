@@ -1,0 +1,79 @@
+#pragma once
+// Cholesky factors of the step Hessians for the backward pass (SPEC section 3), held through
+// CHOLMOD's C API because Eigen's CholmodDecomposition cannot be copied:
+//
+// * CholmodFactor: one numeric factor L (L L^T = A, supernodal) that solves A x = b. Either a deep
+//   copy of another factor (cholmod_copy_factor; the forward pass keeps Newton's last factor of
+//   every step this way) or the product of a HessianFactorizer.
+// * HessianFactorizer: analyses a sparsity pattern once and factorises numerically afterwards
+//   (the backward pass's "rebuild" mode), with an LDL^T fallback (Eigen's SimplicialLDLT, no
+//   pivoting) when CHOLMOD finds the matrix not positive definite.
+//
+// Matrices are the simulator's lower triangles (sparse_hessian.hpp).
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+struct cholmod_factor_struct;
+
+namespace rbaa {
+
+/// A factor of a symmetric matrix A that solves A x = b. Move-only.
+class CholmodFactor {
+ public:
+  /// Deep copy of a CHOLMOD factor (int indices, real double), e.g. the Newton solver's last.
+  static std::unique_ptr<CholmodFactor> copy_of(const cholmod_factor_struct* L);
+
+  ~CholmodFactor();
+  CholmodFactor(const CholmodFactor&) = delete;
+  CholmodFactor& operator=(const CholmodFactor&) = delete;
+
+  /// x = A^-1 b.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  /// Bytes held by the numeric factor and its index arrays.
+  std::size_t bytes() const;
+  int rows() const;
+
+ private:
+  friend class HessianFactorizer;
+  CholmodFactor();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Factorises symmetric matrices of one pattern: the symbolic analysis runs once per
+/// pattern_version, every call after that pays the numeric factorisation only.
+class HessianFactorizer {
+ public:
+  HessianFactorizer();
+  ~HessianFactorizer();
+  HessianFactorizer(const HessianFactorizer&) = delete;
+  HessianFactorizer& operator=(const HessianFactorizer&) = delete;
+
+  /// Factorises A (lower triangle, compressed). LL^T when A is positive definite; otherwise
+  /// LDL^T without pivoting (counted in num_ldlt_fallbacks). Throws rbaa::SolverError when both
+  /// fail (a singular matrix).
+  void factorize(const Eigen::SparseMatrix<double>& A, std::uint64_t pattern_version);
+  /// x = A^-1 b with the last factorisation.
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+
+  int num_factorizations() const { return factorizations_; }
+  int num_ldlt_fallbacks() const { return fallbacks_; }
+  /// Wall time of the numeric factorisations so far (s).
+  double factorization_seconds() const { return seconds_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::uint64_t pattern_version_ = 0;
+  bool analysed_ = false;
+  int factorizations_ = 0;
+  int fallbacks_ = 0;
+  double seconds_ = 0;
+};
+
+}  // namespace rbaa

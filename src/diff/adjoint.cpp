@@ -1,0 +1,241 @@
+#include "rbaa/diff/adjoint.hpp"
+
+#include <chrono>
+#include <sstream>
+
+#include "rbaa/error.hpp"
+#include "rbaa/material/lame.hpp"
+#include "rbaa/sim/parallel.hpp"
+
+namespace rbaa {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Newton's factor of the step just taken (null when the solver cannot hand it out).
+const cholmod_factor_struct* newton_factor(Simulator& sim) {
+  return sim.newton().linear_solver().cholmod_factor();
+}
+
+// dC/dq_hat of step n+1 goes to q_{n-j} with the predictor's coefficients; positions with a
+// negative index are the ballistic history. qbar[k + 3] holds dC/dq_k, k = -3 .. N.
+struct PositionAdjoints {
+  std::vector<Eigen::VectorXd> qbar;
+  Eigen::VectorXd& at(int k) { return qbar[k + 3]; }
+};
+
+// The backward pass shared by both storage modes. factors[k] (may be empty / null) is the exact
+// factor of step k (the step that produced q_{k+1}).
+AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
+                          const Trajectory& traj, const TrajectorySeed& seed,
+                          const std::vector<std::unique_ptr<CholmodFactor>>& factors,
+                          HessianFactorizer& factorizer) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const int N = traj.num_steps();
+  const int ndof = sim.num_dofs();
+  const int nt = sim.rest_mesh().num_tets();
+  if (static_cast<int>(traj.q.size()) != N + 1 || traj.history.size() != 3) {
+    throw InputError("adjoint: the trajectory does not hold N + 1 positions and 3 history ones");
+  }
+  if (traj.integrator != sim.settings().integrator || traj.time_step != sim.settings().time_step) {
+    throw InputError("adjoint: the trajectory was not produced with the simulator's integrator and h");
+  }
+  if (static_cast<int>(seed.dq.size()) != N + 1) {
+    std::ostringstream msg;
+    msg << "adjoint: the seed has " << seed.dq.size() << " position entries, the trajectory "
+        << N + 1;
+    throw InputError(msg.str());
+  }
+  validate_material_field(materials, nt, "adjoint materials");
+
+  PositionAdjoints adj;
+  adj.qbar.assign(N + 4, Eigen::VectorXd::Zero(ndof));
+  for (int k = 0; k <= N; ++k) {
+    if (seed.dq[k].size() == 0) continue;
+    if (seed.dq[k].size() != ndof) throw InputError("adjoint: a seed entry has the wrong size");
+    adj.at(k) += seed.dq[k];
+  }
+
+  AdjointResult result;
+  MaterialGradient& g = result.materials;
+  g.Y = Eigen::VectorXd::Zero(nt);
+  g.nu = Eigen::VectorXd::Zero(nt);
+  g.rho = Eigen::VectorXd::Zero(nt);
+  g.alpha = Eigen::VectorXd::Zero(nt);
+  auto add_direct = [nt](Eigen::VectorXd& to, const Eigen::VectorXd& from) {
+    if (from.size() == 0) return;
+    if (from.size() != nt) throw InputError("adjoint: a direct material gradient has the wrong size");
+    to += from;
+  };
+  add_direct(g.Y, seed.direct.Y);
+  add_direct(g.nu, seed.direct.nu);
+  add_direct(g.rho, seed.direct.rho);
+  add_direct(g.alpha, seed.direct.alpha);
+
+  const BdfIntegrator& bdf = sim.integrator();
+  const std::vector<double>& c = bdf.predictor_coefficients();
+  const double w = bdf.potential_weight();
+  const Eigen::Vector3d gravity = sim.settings().gravity;
+  const bool consistent = sim.settings().mass == MassModel::kConsistent;
+  const Tets& T = sim.rest_mesh().T;
+  const ElasticForm& elastic = sim.elastic_form();
+
+  // Per-element constants of the parameter derivatives.
+  std::vector<LameDerivatives> dlame(nt);
+  for (int e = 0; e < nt; ++e) dlame[e] = lame_derivatives(materials.Y[e], materials.nu[e]);
+
+  Eigen::VectorXd q_hat(ndof), u(ndof), lambda(ndof);
+  for (int k = N - 1; k >= 0; --k) {
+    ++result.stats.steps;
+    const Eigen::VectorXd& qbar = adj.at(k + 1);
+    if (qbar.isZero(0.0)) continue;  // nothing later depends on this step
+    const Eigen::VectorXd& x = traj.q[k + 1];
+    ++result.stats.solves;
+
+    const auto t_solve = std::chrono::steady_clock::now();
+    const CholmodFactor* stored =
+        k < static_cast<int>(factors.size()) ? factors[k].get() : nullptr;
+    if (stored != nullptr) {
+      lambda = stored->solve(qbar);
+      ++result.stats.stored_factor_solves;
+    } else {
+      IncrementalPotential& E = sim.potential();
+      E.solution_changed(x);
+      const double f0 = factorizer.factorization_seconds();
+      const int fb0 = factorizer.num_ldlt_fallbacks();
+      factorizer.factorize(E.hessian(x, HessianKind::kExact), sim.hessian_pattern().pattern_version());
+      result.stats.factorization_seconds += factorizer.factorization_seconds() - f0;
+      result.stats.ldlt_fallbacks += factorizer.num_ldlt_fallbacks() - fb0;
+      ++result.stats.rebuilt_factorizations;
+      lambda = factorizer.solve(qbar);
+    }
+    result.stats.solve_seconds += seconds_since(t_solve);
+
+    // q_hat in the simulator's difference form (sum c_j = 1): q_n + sum_j c_j (q_{n-j} - q_n).
+    const Eigen::VectorXd& q_n = traj.position(k);
+    q_hat = q_n;
+    for (int j = 1; j < static_cast<int>(c.size()); ++j) q_hat += c[j] * (traj.position(k - j) - q_n);
+    u = x - q_hat;
+    for (int v = 0; v < ndof / 3; ++v) u.segment<3>(3 * v) -= w * gravity;
+
+    // dC/dq_hat = M lambda, spread over the predictor's positions.
+    const Eigen::VectorXd Mlambda = sim.inertia_form().multiply(lambda);
+    for (int j = 0; j < static_cast<int>(c.size()); ++j) adj.at(k - j) += c[j] * Mlambda;
+
+    // dC/dtheta_e -= lambda_e^T [dM/dtheta_e u + w d(grad Psi)/dtheta_e], per element.
+#pragma omp parallel for schedule(static) if (nt > kParallelElements)
+    for (int e = 0; e < nt; ++e) {
+      Eigen::Matrix<double, 12, 1> le, ue;
+      for (int a = 0; a < 4; ++a) {
+        le.segment<3>(3 * a) = lambda.segment<3>(3 * T(e, a));
+        ue.segment<3>(3 * a) = u.segment<3>(3 * T(e, a));
+      }
+      // lambda^T (dM/dm_e) u: consistent (1/20)(1 + delta_ab) I_3 blocks, lumped (1/4) delta_ab.
+      double diag = 0;
+      for (int a = 0; a < 4; ++a) diag += le.segment<3>(3 * a).dot(ue.segment<3>(3 * a));
+      double s;
+      if (consistent) {
+        Eigen::Vector3d sl = Eigen::Vector3d::Zero(), su = Eigen::Vector3d::Zero();
+        for (int a = 0; a < 4; ++a) {
+          sl += le.segment<3>(3 * a);
+          su += ue.segment<3>(3 * a);
+        }
+        s = (sl.dot(su) + diag) / 20.0;
+      } else {
+        s = diag / 4.0;
+      }
+      Eigen::Matrix<double, 12, 1> g_mu, g_lambda;
+      elastic.element_gradient_parts(x, e, g_mu, g_lambda);
+      const double p_mu = le.dot(g_mu), p_lambda = le.dot(g_lambda);
+      const double V = elastic.rest_volume(e);
+      const LameDerivatives& d = dlame[e];
+      g.Y[e] -= w * (d.dmu_dY * p_mu + d.dlambda_dY * p_lambda);
+      g.nu[e] -= w * (d.dmu_dnu * p_mu + d.dlambda_dnu * p_lambda);
+      g.rho[e] -= materials.alpha[e] * V * s;
+      g.alpha[e] -= materials.rho[e] * V * s +
+                    w * 3.0 / materials.alpha[e] * (elastic.mu(e) * p_mu + elastic.lambda(e) * p_lambda);
+    }
+  }
+
+  // The ballistic history: q_{-j} = q_0 - j h v_0 + (j h)^2 / 2 g.
+  result.dq0 = adj.at(0);
+  result.dv0 = Eigen::VectorXd::Zero(ndof);
+  const double h = traj.time_step;
+  for (int j = 1; j <= 3; ++j) {
+    result.dq0 += adj.at(-j);
+    result.dv0 -= (j * h) * adj.at(-j);
+  }
+  result.stats.seconds = seconds_since(t_start);
+  return result;
+}
+
+}  // namespace
+
+const char* factor_storage_name(FactorStorage storage) {
+  return storage == FactorStorage::kStore ? "store" : "rebuild";
+}
+
+FactorStorage parse_factor_storage(const std::string& name) {
+  if (name == "store") return FactorStorage::kStore;
+  if (name == "rebuild") return FactorStorage::kRebuild;
+  throw InputError("factor storage '" + name + "' is not one of store, rebuild");
+}
+
+TrajectorySeed TrajectorySeed::empty(int num_steps) {
+  TrajectorySeed s;
+  s.dq.assign(num_steps + 1, Eigen::VectorXd());
+  return s;
+}
+
+DifferentiableSimulator::DifferentiableSimulator(Simulator& sim, FactorStorage storage)
+    : sim_(sim), storage_(storage) {}
+
+Trajectory DifferentiableSimulator::forward(const MaterialField& materials,
+                                            const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
+                                            const Simulator::StepCallback& callback) {
+  factors_.clear();
+  sim_.set_materials(materials, "materials");
+  materials_ = materials;
+  const bool store = storage_ == FactorStorage::kStore;
+  return sim_.run(q0, v0, [&](int step, const Eigen::VectorXd& q, const StepStats& s) {
+    if (store) {
+      // Newton's last factor is of the Hessian at the returned iterate; only an exact one is H.
+      const cholmod_factor_struct* L = s.exact_factor ? newton_factor(sim_) : nullptr;
+      factors_.push_back(L != nullptr ? CholmodFactor::copy_of(L) : nullptr);
+    }
+    if (callback) callback(step, q, s);
+  });
+}
+
+AdjointResult DifferentiableSimulator::backward(const Trajectory& trajectory,
+                                                const TrajectorySeed& seed) {
+  if (materials_.size() != sim_.rest_mesh().num_tets()) {
+    throw InputError("adjoint: backward() without a forward() run");
+  }
+  return run_adjoint(sim_, materials_, trajectory, seed, factors_, factorizer_);
+}
+
+std::size_t DifferentiableSimulator::stored_factor_bytes() const {
+  std::size_t b = 0;
+  for (const auto& f : factors_) {
+    if (f) b += f->bytes();
+  }
+  return b;
+}
+
+int DifferentiableSimulator::num_stored_factors() const {
+  int n = 0;
+  for (const auto& f : factors_) n += f != nullptr;
+  return n;
+}
+
+AdjointResult adjoint_gradient(Simulator& sim, const MaterialField& materials,
+                               const Trajectory& trajectory, const TrajectorySeed& seed) {
+  HessianFactorizer factorizer;
+  return run_adjoint(sim, materials, trajectory, seed, {}, factorizer);
+}
+
+}  // namespace rbaa
