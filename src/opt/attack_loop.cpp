@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Dense>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -125,7 +127,24 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     row.gap = traj.gap;
     row.com_gap = traj.com_gap;
     row.max_moment_residual = moments.residuals(theta).cwiseAbs().maxCoeff();
+    const Eigen::VectorXd before = theta;
     adam.step(theta, gradient);
+    if (options.project_moments) {
+      const Eigen::Matrix<double, 10, Eigen::Dynamic> J = moments.jacobian(before);
+      const Eigen::VectorXd step = theta - before;
+      const Eigen::Matrix<double, 10, 10> JJt = J * J.transpose();
+      theta = before + step - J.transpose() * JJt.ldlt().solve(J * step);
+      // What the tanh maps' curvature leaves (second order in the step) goes with a few
+      // Gauss-Newton steps back onto r = 0 in the span of J^T, which the trajectory term's
+      // direction (orthogonal to it) does not see.
+      for (int k = 0; k < 3; ++k) {
+        const MomentVector r = moments.residuals(theta);
+        if (r.cwiseAbs().maxCoeff() < 1e-10) break;
+        const Eigen::Matrix<double, 10, Eigen::Dynamic> Jk = moments.jacobian(theta);
+        const Eigen::Matrix<double, 10, 10> JJk = Jk * Jk.transpose();
+        theta -= Jk.transpose() * JJk.ldlt().solve(r);
+      }
+    }
     row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.progress.push_back(row);
     result.forward_seconds += traj.forward_seconds;

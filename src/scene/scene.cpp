@@ -325,6 +325,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.smoothing_gamma = a.number("smoothing_gamma", s.smoothing_gamma, 0.0, inf);
     s.boundary_by_vertex = a.text("boundary", "faces", {"faces", "vertices"}) == "vertices";
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);
+    s.project_moments = a.text("project_moments", "true", {"true", "false"}) == "true";
     a.finish();
   }
   top.finish();

@@ -37,7 +37,7 @@ struct ProgressRow {
   double moment_term = 0;
   double gap = 0;           ///< m
   double com_gap = 0;       ///< m
-  double max_moment_residual = 0;  ///< max normalised |r|
+  double max_moment_residual = 0;  ///< max normalised |r| (moments about the reference centre)
   double seconds = 0;       ///< wall time of the iteration
 };
 
@@ -69,6 +69,11 @@ struct AttackLoopOptions {
   std::string progress_path;    ///< empty: no progress.csv
   std::string fingerprint;
   bool resume = false;          ///< continue from checkpoint_path if it exists
+  /// Remove from every Adam step its component that changes the moments to first order,
+  /// dtheta <- dtheta - J^T (J J^T)^-1 J dtheta with J = dr/dtheta, then take up to three
+  /// Gauss-Newton steps theta -= J^T (J J^T)^-1 r back onto r = 0 (the second-order rest). Without it Adam's first steps (about learning_rate in every
+  /// entry) break the moments by 1e-2 and the loop spends its iterations restoring them.
+  bool project_moments = true;
   /// Called after every iteration with its row and the number of iterations in all.
   std::function<void(const ProgressRow&, int)> on_iteration;
 };

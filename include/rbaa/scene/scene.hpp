@@ -94,6 +94,7 @@ struct Scene {
   double smoothing_gamma = 1.0;  ///< relative to the mean edge length squared
   bool boundary_by_vertex = false;  ///< fix elements with any boundary vertex (else: boundary face)
   double round_threshold = 0.5;
+  bool project_moments = true;  ///< project Adam steps onto the moments' tangent (attack_loop.hpp)
 };
 
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the YAML

@@ -1,0 +1,60 @@
+#pragma once
+// `rbaa attack` as a library call (SPEC sections 4 and 5): from a scene to an adversarial object.
+//
+//   reference run -> Adam on C = C_traj + beta ||r||^2 (forward + adjoint per iteration, smoothed
+//   occupancy gradient, checkpoints) -> rounding, connectivity, density re-fit, void removal ->
+//   re-simulation of the final object.
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rbaa/diff/adjoint.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/material/material_field.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+#include "rbaa/opt/attack_loop.hpp"
+#include "rbaa/opt/post_process.hpp"
+#include "rbaa/scene/scene.hpp"
+
+namespace rbaa {
+
+struct AttackOptions {
+  std::string out_dir;          ///< checkpoint.json and progress.csv go here (empty: none)
+  bool resume = false;
+  std::string fingerprint;      ///< identifies scene and settings for --resume
+  FactorStorage storage = FactorStorage::kStore;
+  /// Progress after every iteration (row, iterations in all).
+  std::function<void(const ProgressRow&, int)> on_iteration;
+  /// Free-form stage messages ("reference run", "post-processing", ...).
+  std::function<void(const std::string&)> on_stage;
+};
+
+struct AttackResult {
+  TetMesh mesh;                  ///< the placed reference mesh (the design's domain)
+  double kappa = 0;
+  Moments reference_moments;
+  MaterialField continuous;      ///< after the Adam loop (full mesh)
+  PostProcessResult post;        ///< rounded field, solid object, repair and re-fit reports
+  Moments adversarial_moments;   ///< of the final solid object
+  double max_normalized_residual = 0;  ///< final object vs reference
+  double continuous_max_residual = 0;  ///< before the re-fit (continuous field)
+  AttackLoopResult loop;
+  double gap_initial = 0, gap_continuous = 0, gap_final = 0;          ///< m
+  double com_gap_initial = 0, com_gap_continuous = 0, com_gap_final = 0;  ///< m
+  double objective_initial = 0, objective_final = 0;
+  double forward_seconds = 0, adjoint_seconds = 0, total_seconds = 0;
+};
+
+/// Runs the whole attack. Throws rbaa::InputError on bad input, rbaa::SolverError naming the step
+/// when a simulation fails.
+AttackResult run_attack(const Scene& scene, const AttackOptions& options);
+
+/// DIR/adversarial.msh (+ .vtu): the final solid object with element data Y, nu, rho, alpha,
+/// placed at the scene's initial pose; DIR/continuous.msh: the continuous field on the full mesh;
+/// DIR/report.json with the keys of SPEC section 8.
+void write_attack_outputs(const AttackResult& result, const Scene& scene, const std::string& dir);
+
+}  // namespace rbaa
