@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# The main job: installs the dependencies, builds, and runs the default job with progress on
-# stderr. Until the attack lands (issue 4) the default job meshes the reference ball with CGAL and
-# prints its mass moments. Outputs go to out/ball/.
+# The main job: installs the dependencies, builds, and runs the default attack (the paper's ball
+# off the backboard, configs/ball.yaml, 50 Adam iterations: about 15 minutes on 2 cores) with
+# progress on stderr. Outputs go to out/ball/ (report.json, adversarial.msh/.vtu, progress.csv);
+# re-running it resumes from out/ball/checkpoint.json. Extra arguments go to `rbaa attack`
+# (e.g. --iterations=200 for a paper-quality run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 bash scripts/build.sh
 OUT=${RBAA_OUT:-out/ball}
 mkdir -p "$OUT"
-./build/src/rbaa mesh --shape=sphere --target_tets=9056 --out="$OUT/ball.msh"
-./build/src/rbaa moments --mesh="$OUT/ball.msh" | tee "$OUT/moments.json"
+./build/src/rbaa attack --config=configs/ball.yaml --out="$OUT" --resume "$@"
