@@ -18,8 +18,7 @@
 
 DEFINE_int32(iterations, -1, "Adam iterations (-1: the config's attack.iterations); a resumed run may extend it");
 DEFINE_bool(resume, false, "continue from OUT/checkpoint.json (written after every iteration)");
-DEFINE_string(factors, "store", "backward pass: 'store' keeps each step's Cholesky factor from the forward run "
-                                "(fast), 'rebuild' refactorises in the backward pass (less memory)");
+DECLARE_string(factor_storage);
 DECLARE_string(out);
 DECLARE_string(config);
 DECLARE_string(set);
@@ -56,7 +55,7 @@ int run_attack_verb() {
   rbaa::AttackOptions options;
   options.out_dir = FLAGS_out;
   options.resume = FLAGS_resume;
-  options.storage = rbaa::parse_factor_storage(FLAGS_factors);
+  options.storage = rbaa::parse_factor_storage(FLAGS_factor_storage);
   options.fingerprint = fingerprint(FLAGS_config, FLAGS_set);
   // The output folder must be writable before hours of work go into it.
   {
@@ -89,7 +88,7 @@ int run_attack_verb() {
 
 std::vector<std::string> flags() {
   std::vector<std::string> f = rbaa::cli::scene_flag_names();
-  for (const char* name : {"out", "iterations", "resume", "factors"}) f.push_back(name);
+  for (const char* name : {"out", "iterations", "resume", "factor_storage"}) f.push_back(name);
   return f;
 }
 
@@ -97,7 +96,7 @@ std::vector<std::string> flags() {
 
 RBAA_REGISTER_VERB(attack, rbaa::cli::Verb{
     "attack", "build an adversarial object for a scene (forward + adjoint, Adam, post-processing)",
-    "rbaa attack --config=FILE --out=DIR [--iterations=N] [--resume] [--factors=store|rebuild]\n\n"
+    "rbaa attack --config=FILE --out=DIR [--iterations=N] [--resume] [--factor_storage=store|rebuild]\n\n"
     "Minimises C = -|q_adv(T) - q_ref(T)|^2_Mref / (m0 L^2) + beta |r|^2 over per-element Y, nu,\n"
     "rho and alpha (the config's attack.fields) with Adam, then rounds the occupancy, joins the\n"
     "occupied elements into one body, re-fits densities to the reference moments (1e-10) and\n"

@@ -23,7 +23,7 @@ DEFINE_int32(directions, 4, "number of random directions");
 DEFINE_double(fd_step, 1e-2, "central-difference step along a unit direction (theta units; in material "
                              "space a fraction of each field's range), Richardson-extrapolated with step/2");
 DEFINE_string(fd_space, "theta", "where the directions live: theta (the design vector) or material");
-DEFINE_string(factor_storage, "store", "adjoint factors: store (keep Newton's factors) or rebuild");
+DECLARE_string(factor_storage);
 DEFINE_double(gradcheck_tolerance, 1e-5, "largest relative error that passes");
 DEFINE_uint64(gradcheck_seed, 1, "seed of the random directions");
 
