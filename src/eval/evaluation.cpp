@@ -114,8 +114,9 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
   c.plane = plane;
   c.deformable_rebound = target;
   const double g_step = scene.gravity.norm() * scene.time_step;
+  if (settings.plane_restitution.size() < scene.planes.size()) settings.plane_restitution.resize(scene.planes.size(), 1.0);
   auto rebound = [&](double e) {
-    settings.restitution = e;
+    settings.plane_restitution[plane] = e;
     ++c.iterations;
     return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration),
                                scene.planes[plane], g_step);
@@ -180,21 +181,24 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
   ev.rigid_internal_step = scene.time_step / substeps;
 
-  const Bounce* first = nullptr;
+  // Fit each plane's restitution to the baseline's first bounce off it, in the order of the
+  // bounces, so that the rigid reference starts every plane's contact as the baseline did.
+  rigid.plane_restitution.assign(scene.planes.size(), 1.0);
   for (const Bounce& b : baseline.bounces) {
     if (!b.complete) continue;
-    if (!first) {
-      first = &b;
-    } else {
-      ev.calibration.later_deformable_rebounds.push_back(b.restitution);
+    bool seen = false;
+    for (auto& c : ev.calibrations) {
+      if (c.plane == b.plane) {
+        c.later_deformable_rebounds.push_back(b.restitution);
+        seen = true;
+      }
     }
-  }
-  if (first) {
-    const auto later = ev.calibration.later_deformable_rebounds;
-    ev.calibration = calibrate_restitution(ref_mass, ref_shape, scene, rigid, ev.duration, first->plane,
-                                           first->restitution, options.calibration_tolerance);
-    ev.calibration.later_deformable_rebounds = later;
-    rigid.restitution = ev.calibration.restitution;
+    if (seen) continue;
+    RestitutionCalibration c = calibrate_restitution(ref_mass, ref_shape, scene, rigid, ev.duration, b.plane,
+                                                     b.restitution, options.calibration_tolerance);
+    c.time = b.first_step * scene.time_step;
+    rigid.plane_restitution[b.plane] = c.restitution;
+    ev.calibrations.push_back(c);
   }
 
   auto start = std::chrono::steady_clock::now();

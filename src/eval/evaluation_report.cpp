@@ -75,7 +75,13 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   }
   const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths", series, scene.planes);
 
-  const auto& cal = ev.calibration;
+  nlohmann::json calibration = nlohmann::json::array();
+  for (const auto& c : ev.calibrations) {
+    calibration.push_back({{"plane", c.plane}, {"time_s", c.time}, {"calibrated", c.calibrated},
+                           {"deformable_first_rebound", c.deformable_rebound}, {"rigid_first_rebound", c.rigid_rebound},
+                           {"restitution", c.restitution}, {"iterations", c.iterations},
+                           {"deformable_later_rebounds", c.later_deformable_rebounds}});
+  }
   nlohmann::json report = {
       {"scene", scene.name},
       {"duration_s", ev.duration},
@@ -86,13 +92,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"rigid", {{"simulator", "Bullet (double precision), semi-implicit Euler"},
                  {"internal_step_s", ev.rigid_internal_step},
                  {"collision_shape", ev.rigid_shape}}},
-      {"calibration", {{"calibrated", cal.calibrated},
-                       {"plane", cal.plane},
-                       {"deformable_first_rebound", cal.deformable_rebound},
-                       {"rigid_first_rebound", cal.rigid_rebound},
-                       {"restitution", cal.restitution},
-                       {"iterations", cal.iterations},
-                       {"deformable_later_rebounds", cal.later_deformable_rebounds}}},
+      {"calibration", calibration},
       {"rigid_vs_rigid", comparison_json(ev.rigid_vs_rigid)},
       {"deformable_vs_deformable", comparison_json(ev.deformable_vs_deformable)},
       {"deformable_vs_rigid", comparison_json(ev.deformable_vs_rigid)},
@@ -106,9 +106,17 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
     out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
         << "Duration " << fmt(ev.duration) << " s, step " << fmt(scene.time_step) << " s. Rigid: Bullet ("
-        << ev.rigid_shape << "), restitution " << fmt(cal.restitution, 6)
-        << (cal.calibrated ? " fitted to" : " (not calibrated: no complete baseline bounce)")
-        << " the deformable baseline's first rebound " << fmt(cal.deformable_rebound, 6) << ".\n\n"
+        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s.\n\n"
+        << "Restitution per plane, fitted to the deformable baseline's first rebound off it:\n\n"
+        << "| plane | first bounce (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
+        << "|---|---|---|---|---|---|\n";
+    for (const auto& c : ev.calibrations) {
+      out << "| " << c.plane << " | " << fmt(c.time) << " | " << fmt(c.deformable_rebound, 6) << " | "
+          << fmt(c.rigid_rebound, 6) << (c.calibrated ? "" : " (not fitted)") << " | " << fmt(c.restitution, 6) << " | ";
+      for (double r : c.later_deformable_rebounds) out << fmt(r) << " ";
+      out << "|\n";
+    }
+    out << "\n"
         << "| pair | centre-of-mass gap at T (m) | max gap (m) | velocity angle (deg) | orientation gap (deg) |\n"
         << "|---|---|---|---|---|\n";
     for (const RunComparison* c : {&ev.rigid_vs_rigid, &ev.deformable_vs_deformable, &ev.deformable_vs_rigid}) {

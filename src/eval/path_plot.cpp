@@ -42,6 +42,15 @@ std::string write_path_plot(const std::string& stem, const std::string& title,
       }
     });
   }
+  // Show every plane: extend the view to the point of each plane's trace nearest the paths.
+  const Eigen::Vector2d centre = (lo + hi) / 2;
+  for (const Plane& plane : planes) {
+    const Eigen::Vector2d n(plane.normal[a], plane.normal[b]);
+    if (n.squaredNorm() < 1e-12) continue;
+    const Eigen::Vector2d foot = centre - (n.dot(centre) - plane.offset) / n.squaredNorm() * n;
+    lo = lo.cwiseMin(foot);
+    hi = hi.cwiseMax(foot);
+  }
   const Eigen::Vector2d pad = 0.1 * (hi - lo).cwiseMax(1e-3);
   lo -= pad;
   hi += pad;

@@ -102,11 +102,12 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
   // drops restitution for points older than two steps, which at small steps is every impact.
   info.m_restingContactRestitutionThreshold = std::numeric_limits<int>::max();
 
-  for (const Plane& plane : scene.planes) {
+  for (size_t p = 0; p < scene.planes.size(); ++p) {
+    const Plane& plane = scene.planes[p];
     auto plane_shape = std::make_unique<btStaticPlaneShape>(to_bt(plane.normal), plane.offset);
     btRigidBody::btRigidBodyConstructionInfo ci(0.0, nullptr, plane_shape.get());
     auto body = std::make_unique<btRigidBody>(ci);
-    body->setRestitution(1.0);
+    body->setRestitution(p < settings.plane_restitution.size() ? settings.plane_restitution[p] : 1.0);
     body->setFriction(settings.friction > 0 ? 1.0 : 0.0);
     w.world.addRigidBody(body.get());
     w.shapes.push_back(std::move(plane_shape));

@@ -47,9 +47,11 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   const Evaluation ev = evaluate(scene, mesh, mesh, adv, options);
 
   // Calibration: the rigid reference reproduces the baseline's first rebound within 1 %.
-  ASSERT_TRUE(ev.calibration.calibrated);
-  EXPECT_GT(ev.calibration.deformable_rebound, 0.1);
-  EXPECT_NEAR(ev.calibration.rigid_rebound / ev.calibration.deformable_rebound, 1.0, 0.01);
+  ASSERT_EQ(ev.calibrations.size(), 1u);
+  const RestitutionCalibration& cal = ev.calibrations[0];
+  ASSERT_TRUE(cal.calibrated);
+  EXPECT_GT(cal.deformable_rebound, 0.1);
+  EXPECT_NEAR(cal.rigid_rebound / cal.deformable_rebound, 1.0, 0.01);
   // Equal moments: identical rigid trajectories; the deformable ones may differ.
   EXPECT_LT(ev.rigid_vs_rigid.max_position_gap, 1e-9);
   EXPECT_LT(ev.rigid_vs_rigid.orientation_gap_deg, 1e-6);
@@ -65,7 +67,7 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   EXPECT_EQ(report["moments"]["reference"].size(), 10u);
   EXPECT_DOUBLE_EQ(report["deformable_vs_deformable"]["com_gap_m"].get<double>(),
                    ev.deformable_vs_deformable.position_gap);
-  EXPECT_DOUBLE_EQ(report["calibration"]["restitution"].get<double>(), ev.calibration.restitution);
+  EXPECT_DOUBLE_EQ(report["calibration"][0]["restitution"].get<double>(), cal.restitution);
   for (const char* f : {"summary.md", "rigid_reference.csv", "rigid_adversarial.csv",
                         "deformable_reference.csv", "deformable_adversarial.csv", "paths.gp"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;

@@ -36,20 +36,21 @@ struct RunComparison {
   double orientation_gap_deg = 0; ///< angle of R_a(T) R_b(T)^T
 };
 
-/// The rigid restitution fitted to the deformable baseline's first bounce.
+/// The rigid restitution of one plane, fitted to the deformable baseline's first bounce off it.
 struct RestitutionCalibration {
-  bool calibrated = false;      ///< false when the baseline never completes a bounce
+  bool calibrated = false;      ///< false when the rigid body never bounces off that plane
   int plane = -1;
+  double time = 0;                ///< of the baseline's first bounce off the plane (s)
   double deformable_rebound = 0;  ///< -v_n,out / v_n,in of the baseline's first bounce
   double rigid_rebound = 0;       ///< the same ratio for the rigid reference, fitted
-  double restitution = 1.0;       ///< Bullet's body restitution that achieves it
+  double restitution = 1.0;       ///< the plane's Bullet restitution that achieves it
   int iterations = 0;
-  std::vector<double> later_deformable_rebounds;  ///< baseline's later bounces (impact phase)
+  std::vector<double> later_deformable_rebounds;  ///< baseline's later bounces off the plane
 };
 
 struct EvaluationOptions {
   double duration = 0;          ///< seconds; <= 0: 4 x the scene's (attack) duration
-  RigidSettings rigid;          ///< restitution is overwritten by the calibration
+  RigidSettings rigid;          ///< plane restitutions are overwritten by the calibration
   double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
 };
 
@@ -59,7 +60,10 @@ struct Evaluation {
   Moments reference_moments, adversarial_moments;
   std::string rigid_shape;        ///< which Bullet collision shape, and why
   double rigid_internal_step = 0;
-  RestitutionCalibration calibration;
+  /// One per plane the baseline bounces off, in the order of their first bounces (each fitted
+  /// with the earlier planes' values in place). A single restitution cannot reproduce BDF-2's
+  /// rebounds, which depend on where in a step the impact falls (SPEC section 2).
+  std::vector<RestitutionCalibration> calibrations;
   RunTrace rigid_reference, rigid_adversarial, deformable_reference, deformable_adversarial;
   RunComparison rigid_vs_rigid, deformable_vs_deformable, deformable_vs_rigid;
   double attack_advantage = 0;  ///< deformable_vs_deformable gap / deformable_vs_rigid gap
@@ -76,8 +80,9 @@ Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,
 /// Compares two traces sampled at the same times.
 RunComparison compare_runs(const RunTrace& a, const RunTrace& b);
 
-/// Fits Bullet's restitution so that the rigid reference's first rebound off `plane` (the ratio
-/// of the centre of mass's normal velocities after and before) equals `target`.
+/// Fits the restitution of plane `plane` (settings.plane_restitution) so that the rigid
+/// reference's first rebound off it (the ratio of the centre of mass's normal velocities after and
+/// before) equals `target`.
 RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
                                              const RigidShape& shape, const Scene& scene,
                                              RigidSettings settings, double duration, int plane,

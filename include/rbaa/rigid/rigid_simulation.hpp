@@ -15,7 +15,9 @@ namespace rbaa {
 
 struct RigidSettings {
   double internal_step = 1e-3;  ///< Bullet's fixed step (s); outputs are sampled at the scene's h
-  double restitution = 1.0;     ///< body restitution; planes have 1, Bullet multiplies the two
+  double restitution = 1.0;     ///< body restitution; Bullet multiplies it with the plane's
+  /// Restitution of each plane (index as in the scene); missing entries are 1.
+  std::vector<double> plane_restitution;
   double friction = 0.0;
   double margin = 1e-4;         ///< collision margin (m), at most d_hat (Bullet's 0.04 m default
                                 ///< is nearly the cube's half size)
