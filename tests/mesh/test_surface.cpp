@@ -62,6 +62,24 @@ TEST_F(SurfaceFiles, ClosedCubeIsReadAndMeshed) {
   EXPECT_NEAR(tet_volumes(mesh).sum(), 2.0, 1e-9);
 }
 
+TEST_F(SurfaceFiles, ObjAndStlAreRead) {
+  const SurfaceMesh cube = cube_surface(1.0);
+  std::ostringstream obj, stl;
+  obj.precision(17);
+  stl.precision(17);
+  stl << "solid cube\n";
+  for (Eigen::Index i = 0; i < cube.V.rows(); ++i) obj << "v " << cube.V.row(i) << "\n";
+  for (Eigen::Index f = 0; f < cube.F.rows(); ++f) {
+    obj << "f " << cube.F(f, 0) + 1 << " " << cube.F(f, 1) + 1 << " " << cube.F(f, 2) + 1 << "\n";
+    stl << "facet normal 0 0 0\nouter loop\n";
+    for (int c = 0; c < 3; ++c) stl << "vertex " << cube.V.row(cube.F(f, c)) << "\n";
+    stl << "endloop\nendfacet\n";
+  }
+  stl << "endsolid cube\n";
+  EXPECT_NEAR(enclosed_volume(read_surface(write("cube.obj", obj.str()))), 1.0, 1e-12);
+  EXPECT_NEAR(enclosed_volume(read_surface(write("cube.stl", stl.str()))), 1.0, 1e-12);
+}
+
 TEST_F(SurfaceFiles, InwardSurfaceIsReoriented) {
   SurfaceMesh s = cube_surface(1.0);
   s.F.col(1).swap(s.F.col(2));
