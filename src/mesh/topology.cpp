@@ -104,31 +104,35 @@ std::vector<char> boundary_elements(const TetMesh& mesh, bool by_vertex) {
   return flags;
 }
 
-int count_components(const TetMesh& mesh, const std::vector<char>& flags) {
-  const Tets adj = face_adjacency(mesh);
-  const int nt = mesh.num_tets();
-  auto active = [&](int e) { return flags.empty() || flags[e]; };
-  std::vector<char> seen(nt, 0);
+int label_components(const Tets& adj, const std::vector<char>& flags, std::vector<int>& label) {
+  const int nt = static_cast<int>(adj.rows());
+  label.assign(nt, -1);
   std::vector<int> stack;
-  int components = 0;
+  int count = 0;
   for (int s = 0; s < nt; ++s) {
-    if (!active(s) || seen[s]) continue;
-    ++components;
-    seen[s] = 1;
+    if (!flags[s] || label[s] >= 0) continue;
+    label[s] = count;
     stack.push_back(s);
     while (!stack.empty()) {
       const int e = stack.back();
       stack.pop_back();
       for (int k = 0; k < 4; ++k) {
         const int n = adj(e, k);
-        if (n >= 0 && active(n) && !seen[n]) {
-          seen[n] = 1;
+        if (n >= 0 && flags[n] && label[n] < 0) {
+          label[n] = count;
           stack.push_back(n);
         }
       }
     }
+    ++count;
   }
-  return components;
+  return count;
+}
+
+int count_components(const TetMesh& mesh, const std::vector<char>& flags) {
+  std::vector<int> label;
+  return label_components(face_adjacency(mesh), flags.empty() ? std::vector<char>(mesh.num_tets(), 1) : flags,
+                          label);
 }
 
 }  // namespace rbaa

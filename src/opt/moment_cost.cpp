@@ -81,14 +81,8 @@ Eigen::Matrix<double, 10, Eigen::Dynamic> MomentCostFunction::jacobian(
 
 double MomentCostFunction::penalty(const Eigen::VectorXd& theta, double beta,
                                    Eigen::VectorXd* gradient) const {
-  if (gradient == nullptr) return beta * residuals(theta).squaredNorm();
-  if (theta.size() != design_.size()) throw InputError("moment cost: design vector of wrong size");
-  MomentVector r;
-  Eigen::Matrix<double, 10, Eigen::Dynamic, Eigen::RowMajor> J(10, design_.size());
-  const double* p[1] = {theta.data()};
-  double* jac[1] = {J.data()};
-  Evaluate(p, r.data(), jac);
-  *gradient = 2.0 * beta * (J.transpose() * r);
+  const MomentVector r = residuals(theta);
+  if (gradient) *gradient = 2.0 * beta * (jacobian(theta).transpose() * r);
   return beta * r.squaredNorm();
 }
 

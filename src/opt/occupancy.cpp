@@ -30,36 +30,6 @@ Eigen::VectorXd round_occupancy(const Eigen::VectorXd& alpha, const std::vector<
   return out;
 }
 
-namespace {
-
-// Face-connected component label per occupied element (-1 for void ones); returns the count.
-int label_components(const Tets& adj, const std::vector<char>& occupied, std::vector<int>& label) {
-  const int nt = static_cast<int>(occupied.size());
-  label.assign(nt, -1);
-  std::vector<int> stack;
-  int count = 0;
-  for (int s = 0; s < nt; ++s) {
-    if (!occupied[s] || label[s] >= 0) continue;
-    label[s] = count;
-    stack.push_back(s);
-    while (!stack.empty()) {
-      const int e = stack.back();
-      stack.pop_back();
-      for (int k = 0; k < 4; ++k) {
-        const int n = adj(e, k);
-        if (n >= 0 && occupied[n] && label[n] < 0) {
-          label[n] = count;
-          stack.push_back(n);
-        }
-      }
-    }
-    ++count;
-  }
-  return count;
-}
-
-}  // namespace
-
 ConnectivityReport repair_connectivity(const TetMesh& mesh, const std::vector<char>& boundary,
                                        Eigen::VectorXd& alpha) {
   const int nt = mesh.num_tets();

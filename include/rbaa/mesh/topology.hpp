@@ -23,6 +23,10 @@ std::vector<char> boundary_elements(const TetMesh& mesh, bool by_vertex = false)
 /// than two tets (non-manifold).
 Tets face_adjacency(const TetMesh& mesh);
 
+/// Face-connected component label of every flagged element (-1 for the others), numbered in
+/// order of their smallest element, given the face adjacency `adj`; returns how many there are.
+int label_components(const Tets& adj, const std::vector<char>& flags, std::vector<int>& label);
+
 /// Number of face-connected components among the elements with flag set (all if empty).
 int count_components(const TetMesh& mesh, const std::vector<char>& flags = {});
 
