@@ -97,11 +97,25 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
 
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
                            double gravity_speed_per_step) {
-  for (size_t k = 0; k + 1 < states.size(); ++k) {
+  // An impact changes the normal velocity by far more than gravity does in one step. A bounce of a
+  // non-round body is often several impacts a few steps apart (it rocks onto another corner), so
+  // the episode runs from the first such jump to the last one followed by three quiet steps, and
+  // the rebound compares the normal velocities before and after the whole episode, as the
+  // deformable bounce does with its contact steps.
+  auto jump = [&](size_t k) {
     const double in = states[k].velocity.dot(plane.normal);
     const double out = states[k + 1].velocity.dot(plane.normal);
-    // An impact changes the normal velocity by far more than gravity does in one step.
-    if (in < 0 && out - in > 10 * gravity_speed_per_step + 1e-9 * std::abs(in)) return -out / in;
+    return std::abs(out - in) > 10 * gravity_speed_per_step + 1e-9 * std::abs(in);
+  };
+  for (size_t k = 0; k + 1 < states.size(); ++k) {
+    const double in = states[k].velocity.dot(plane.normal);
+    if (!(in < 0) || !jump(k)) continue;
+    size_t last = k;
+    for (size_t j = k + 1; j + 1 < states.size() && j <= last + 3; ++j) {
+      if (jump(j)) last = j;
+    }
+    if (last + 4 >= states.size() && last + 1 < states.size() - 1) return std::nan("");  // not over
+    return -states[last + 1].velocity.dot(plane.normal) / in;
   }
   return std::nan("");
 }
