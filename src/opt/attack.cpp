@@ -114,10 +114,10 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
     r.com_gap_initial = r.loop.progress.front().com_gap;
     r.objective_initial = r.loop.progress.front().objective;
   } else {
-    const TrajectoryTermValue v = term(theta0, nullptr);
+    const TrajectoryTermValue v = term(r.loop.theta, nullptr);  // theta_0, retracted by the loop
     r.gap_initial = v.gap;
     r.com_gap_initial = v.com_gap;
-    r.objective_initial = v.value + moments.penalty(theta0, scene.beta, nullptr);
+    r.objective_initial = v.value + moments.penalty(r.loop.theta, scene.beta, nullptr);
   }
   const TrajectoryTermValue final_value = term(r.loop.theta, nullptr);
   r.gap_continuous = final_value.gap;

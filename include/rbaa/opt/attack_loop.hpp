@@ -85,7 +85,12 @@ struct AttackLoopResult {
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
 };
 
-/// Runs the loop from theta0 (or the checkpoint). `smoother` may be null (no occupancy field).
+/// Moves theta onto r(theta) = 0 with up to `max_steps` Gauss-Newton steps
+/// theta -= J^T (J J^T)^-1 r (stops once max |r| < 1e-12).
+void retract_onto_moments(const MomentCostFunction& moments, Eigen::VectorXd& theta, int max_steps = 4);
+
+/// Runs the loop from theta0 (or the checkpoint); with project_moments, theta0 is first retracted
+/// onto the matched moments. `smoother` may be null (no occupancy field).
 AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunction& moments,
                                  const GradientSmoother* smoother, const TrajectoryTerm& trajectory,
                                  const Eigen::VectorXd& theta0, const AttackLoopOptions& options);
