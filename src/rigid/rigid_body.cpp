@@ -8,14 +8,51 @@
 
 namespace rbaa {
 
-RigidMassProperties rigid_mass_properties(const Moments& moments) {
+namespace {
+
+// Unit vector with the sign that makes its largest component positive: eigen-solvers return v or
+// -v at random, and two objects with equal inertia must get the same frame.
+Eigen::Vector3d canonical_sign(Eigen::Vector3d v) {
+  Eigen::Index i = 0;
+  v.cwiseAbs().maxCoeff(&i);
+  return v[i] < 0 ? Eigen::Vector3d(-v) : v;
+}
+
+}  // namespace
+
+RigidMassProperties rigid_mass_properties(const Moments& moments, double degenerate_tolerance) {
   RigidMassProperties p;
   p.mass = moments.m0;
   p.centre = moments.centre_of_mass();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(moments.inertia_about_centre());
-  p.principal_moments = eig.eigenvalues();
-  p.principal_axes = eig.eigenvectors();
-  if (p.principal_axes.determinant() < 0) p.principal_axes.col(2) *= -1.0;
+  const Eigen::Matrix3d I = moments.inertia_about_centre();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
+  const Eigen::Vector3d lambda = eig.eigenvalues();
+  const double tol = degenerate_tolerance * lambda.cwiseAbs().maxCoeff();
+  const bool low_pair = lambda[1] - lambda[0] <= tol, high_pair = lambda[2] - lambda[1] <= tol;
+  // Within a set of equal principal moments any orthonormal basis is principal, and the solver's
+  // pick follows round-off: the reference and an adversarial object with the same inertia would get
+  // frames rotated against each other, and Bullet's contact generation breaks ties between
+  // symmetric support points (the star's tip edges lie flat on the floor) differently in different
+  // frames. So equal moments get a canonical basis built from the mesh axes.
+  Eigen::Matrix3d A;
+  if (low_pair && high_pair) {
+    A.setIdentity();
+  } else if (low_pair || high_pair) {
+    const Eigen::Vector3d axis = canonical_sign(eig.eigenvectors().col(low_pair ? 2 : 0));
+    Eigen::Index m = 0;
+    axis.cwiseAbs().minCoeff(&m);
+    const Eigen::Vector3d e = Eigen::Vector3d::Unit(m);
+    const Eigen::Vector3d u = (e - e.dot(axis) * axis).normalized();
+    const Eigen::Vector3d w = axis.cross(u);
+    if (low_pair) A << u, w, axis;
+    else A << axis, u, w;
+  } else {
+    for (int k = 0; k < 3; ++k) A.col(k) = canonical_sign(eig.eigenvectors().col(k));
+  }
+  if (A.determinant() < 0) A.col(2) *= -1.0;
+  p.principal_axes = A;
+  // The principal moments in that basis (off-diagonals are round-off when the moments are equal).
+  p.principal_moments = (A.transpose() * I * A).diagonal();
   return p;
 }
 

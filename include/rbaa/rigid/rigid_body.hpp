@@ -21,7 +21,10 @@ struct RigidMassProperties {
 };
 
 /// Mass, centre, and the eigen-decomposition of m2 moved to the centre (parallel-axis shift).
-RigidMassProperties rigid_mass_properties(const Moments& moments);
+/// Principal moments equal within `degenerate_tolerance` (relative) get a canonical basis built
+/// from the mesh axes (identity when all three are equal), and every axis a canonical sign, so
+/// that objects with equal inertia get the same frame.
+RigidMassProperties rigid_mass_properties(const Moments& moments, double degenerate_tolerance = 1e-8);
 
 /// The collision shape handed to the rigid simulator.
 enum class RigidShapeKind { kSphere, kBox, kConvexHull };
