@@ -251,8 +251,18 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options
   double size = std::cbrt(volume / (0.24 * options.target_tets));
   TetMesh best;
   double best_error = std::numeric_limits<double>::infinity();
+  std::string last_fault;
   for (int attempt = 0; attempt < options.max_attempts; ++attempt) {
-    TetMesh mesh = tetrahedralize_with_size(surface, size, options, source);
+    TetMesh mesh;
+    try {
+      mesh = tetrahedralize_with_size(surface, size, options, source);
+    } catch (const InputError& e) {
+      // Mesh_3 can leave a flat sliver at sharp features (seen on the star at 400 tets); another
+      // cell size gives another mesh.
+      last_fault = e.what();
+      size *= 0.97;
+      continue;
+    }
     const double ratio = static_cast<double>(mesh.num_tets()) / options.target_tets;
     const double error = std::abs(ratio - 1.0);
     if (error < best_error) {
@@ -262,6 +272,7 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options
     if (error <= options.tolerance) break;
     size *= std::cbrt(ratio);
   }
+  if (best.num_tets() == 0) throw InputError(last_fault);
   return best;
 }
 

@@ -77,6 +77,17 @@ TEST(Tetrahedralize, TargetCountIsFollowed) {
   }
 }
 
+TEST(Tetrahedralize, CoarseMeshesWithSharpFeaturesAreValid) {
+  // At 400 tets Mesh_3 left a flat sliver (volume 2e-19 m^3) at a star tip; another cell size is
+  // tried instead. Below ~550 tets the star's sharp edges set the count (300 gives 578), so only
+  // validity is asserted here; the paper's counts are held to 15 % above.
+  for (int target : {300, 400, 500}) {
+    const TetMesh mesh = mesh_shape("star", target);
+    EXPECT_NO_THROW(validate_tet_mesh(mesh, "star"));
+    EXPECT_GT(tet_volumes(mesh).minCoeff(), 1e-6 * tet_volumes(mesh).mean()) << target;
+  }
+}
+
 TEST(Tetrahedralize, UnknownShapeIsAnError) {
   EXPECT_THROW(mesh_shape("torus", 100), InputError);
 }
