@@ -126,7 +126,8 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     for (int j = 0; j < static_cast<int>(c.size()); ++j) adj.at(k - j) += c[j] * Mlambda;
 
     // dC/dtheta_e -= lambda_e^T [dM/dtheta_e u + w d(grad Psi)/dtheta_e], per element.
-#pragma omp parallel for schedule(static) if (nt > kParallelElements)
+    const auto t_parameters = std::chrono::steady_clock::now();
+#pragma omp parallel for schedule(static) if (nt > kParallelCheapElements)
     for (int e = 0; e < nt; ++e) {
       Eigen::Matrix<double, 12, 1> le, ue;
       for (int a = 0; a < 4; ++a) {
@@ -158,6 +159,7 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
       g.alpha[e] -= materials.rho[e] * V * s +
                     w * 3.0 / materials.alpha[e] * (elastic.mu(e) * p_mu + elastic.lambda(e) * p_lambda);
     }
+    result.stats.parameter_seconds += seconds_since(t_parameters);
   }
 
   // The ballistic history: q_{-j} = q_0 - j h v_0 + (j h)^2 / 2 g.
@@ -196,18 +198,35 @@ DifferentiableSimulator::DifferentiableSimulator(Simulator& sim, FactorStorage s
 Trajectory DifferentiableSimulator::forward(const MaterialField& materials,
                                             const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                                             const Simulator::StepCallback& callback) {
+  // Keep the last run's factor buffers for this run (same pattern: values copied in place).
+  for (auto& f : factors_) {
+    if (f) spare_.push_back(std::move(f));
+  }
   factors_.clear();
   sim_.set_materials(materials, "materials");
   materials_ = materials;
   const bool store = storage_ == FactorStorage::kStore;
-  return sim_.run(q0, v0, [&](int step, const Eigen::VectorXd& q, const StepStats& s) {
+  if (!store) spare_.clear();
+  Trajectory trajectory = sim_.run(q0, v0, [&](int step, const Eigen::VectorXd& q, const StepStats& s) {
     if (store) {
       // Newton's last factor is of the Hessian at the returned iterate; only an exact one is H.
       const cholmod_factor_struct* L = s.exact_factor ? newton_factor(sim_) : nullptr;
-      factors_.push_back(L != nullptr ? CholmodFactor::copy_of(L) : nullptr);
+      if (L == nullptr) {
+        factors_.push_back(nullptr);
+      } else if (!spare_.empty()) {
+        // Refill an earlier run's factor: exchange value arrays with Newton's (no copy; Newton
+        // refactorises into the old array next step), else copy the values in place.
+        factors_.push_back(std::move(spare_.back()));
+        spare_.pop_back();
+        if (!factors_.back()->take_values_from(sim_.newton().linear_solver())) factors_.back()->assign(L);
+      } else {
+        factors_.push_back(CholmodFactor::copy_of(L));
+      }
     }
     if (callback) callback(step, q, s);
   });
+  spare_.clear();  // hold no more factors than this run's
+  return trajectory;
 }
 
 AdjointResult DifferentiableSimulator::backward(const Trajectory& trajectory,

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "rbaa/error.hpp"
+#include "rbaa/sim/linear_solver.hpp"
 
 namespace rbaa {
 
@@ -85,14 +86,57 @@ std::unique_ptr<CholmodFactor> CholmodFactor::copy_of(const cholmod_factor_struc
   return f;
 }
 
+namespace {
+
+template <typename T>
+bool same_array(const void* a, const void* b, std::size_t n) {
+  return n == 0 || (a != nullptr && b != nullptr && std::memcmp(a, b, n * sizeof(T)) == 0);
+}
+
+// Whether two supernodal real factors share their symbolic structure, so that copying L->x
+// alone turns one into the other.
+bool same_structure(const cholmod_factor* a, const cholmod_factor* b) {
+  if (!a->is_super || !b->is_super || a->xtype != CHOLMOD_REAL || b->xtype != CHOLMOD_REAL) return false;
+  if (a->itype != CHOLMOD_INT || b->itype != CHOLMOD_INT || a->dtype != b->dtype) return false;
+  if (a->n != b->n || a->nsuper != b->nsuper || a->ssize != b->ssize || a->xsize != b->xsize ||
+      a->is_ll != b->is_ll || a->ordering != b->ordering || a->maxcsize != b->maxcsize ||
+      a->maxesize != b->maxesize) {
+    return false;
+  }
+  return same_array<int>(a->Perm, b->Perm, a->n) && same_array<int>(a->ColCount, b->ColCount, a->n) &&
+         same_array<int>(a->super, b->super, a->nsuper + 1) &&
+         same_array<int>(a->pi, b->pi, a->nsuper + 1) && same_array<int>(a->px, b->px, a->nsuper + 1) &&
+         same_array<int>(a->s, b->s, a->ssize);
+}
+
+}  // namespace
+
+void CholmodFactor::assign(const cholmod_factor_struct* L) {
+  if (L == nullptr) throw SolverError("no CHOLMOD factor to copy");
+  cholmod_factor* mine = impl_->L;
+  if (mine != nullptr && same_structure(mine, L)) {
+    std::memcpy(mine->x, L->x, L->xsize * sizeof(double));
+    return;
+  }
+  if (mine != nullptr) cholmod_free_factor(&impl_->L, &impl_->common.c);
+  impl_->L = cholmod_copy_factor(const_cast<cholmod_factor*>(L), &impl_->common.c);
+  if (impl_->L == nullptr) throw SolverError("CHOLMOD could not copy a factor (out of memory?)");
+}
+
+bool CholmodFactor::take_values_from(LinearSolver& solver) {
+  return impl_->L != nullptr && solver.give_factor_values(impl_->L);
+}
+
 Eigen::VectorXd CholmodFactor::solve(const Eigen::VectorXd& b) const {
   return cholmod_solve_with(impl_->L, b, &impl_->common.c);
 }
 
 int CholmodFactor::rows() const { return static_cast<int>(impl_->L->n); }
 
-std::size_t CholmodFactor::bytes() const {
-  const cholmod_factor* L = impl_->L;
+std::size_t CholmodFactor::bytes() const { return bytes_of(impl_->L); }
+
+std::size_t CholmodFactor::bytes_of(const cholmod_factor_struct* L) {
+  if (L == nullptr) return 0;
   std::size_t b = L->n * (2 * sizeof(int));  // Perm, ColCount
   if (L->is_super) {
     b += L->xsize * sizeof(double) + L->ssize * sizeof(int) + 3 * (L->nsuper + 1) * sizeof(int);

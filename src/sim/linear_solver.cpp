@@ -2,6 +2,8 @@
 
 #include <Eigen/CholmodSupport>
 
+#include <cstring>
+
 #include "rbaa/error.hpp"
 
 namespace rbaa {
@@ -12,7 +14,26 @@ namespace {
 class SupernodalLlt : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
  public:
   const cholmod_factor* factor() const { return m_cholmodFactor; }
+  cholmod_factor* factor() { return m_cholmodFactor; }
 };
+
+template <typename T>
+bool same_array(const void* a, const void* b, std::size_t n) {
+  return n == 0 || (a != nullptr && b != nullptr && std::memcmp(a, b, n * sizeof(T)) == 0);
+}
+
+// Whether two supernodal real factors share their symbolic structure (then their value arrays
+// are interchangeable).
+bool same_structure(const cholmod_factor* a, const cholmod_factor* b) {
+  if (!a->is_super || !b->is_super || a->xtype != CHOLMOD_REAL || b->xtype != CHOLMOD_REAL) return false;
+  if (a->itype != b->itype || a->dtype != b->dtype || a->n != b->n || a->nsuper != b->nsuper ||
+      a->ssize != b->ssize || a->xsize != b->xsize || a->is_ll != b->is_ll) {
+    return false;
+  }
+  return same_array<int>(a->Perm, b->Perm, a->n) && same_array<int>(a->super, b->super, a->nsuper + 1) &&
+         same_array<int>(a->pi, b->pi, a->nsuper + 1) && same_array<int>(a->px, b->px, a->nsuper + 1) &&
+         same_array<int>(a->s, b->s, a->ssize);
+}
 
 }  // namespace
 
@@ -45,6 +66,15 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& A, std::uint64_t
 
 const cholmod_factor_struct* LinearSolver::cholmod_factor() const {
   return factored_ ? impl_->llt.factor() : nullptr;
+}
+
+bool LinearSolver::give_factor_values(cholmod_factor_struct* other) {
+  if (!factored_ || other == nullptr) return false;
+  ::cholmod_factor* mine = impl_->llt.factor();
+  if (mine == nullptr || !same_structure(mine, other)) return false;
+  std::swap(mine->x, other->x);
+  factored_ = false;
+  return true;
 }
 
 Eigen::VectorXd LinearSolver::solve(const Eigen::VectorXd& b) const {

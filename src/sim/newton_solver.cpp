@@ -1,5 +1,6 @@
 #include "rbaa/sim/newton_solver.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -7,6 +8,19 @@
 #include "rbaa/error.hpp"
 
 namespace rbaa {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Adds the wall time since `t0` to `to` and restarts `t0`.
+void lap(Clock::time_point& t0, double& to) {
+  const Clock::time_point t1 = Clock::now();
+  to += std::chrono::duration<double>(t1 - t0).count();
+  t0 = t1;
+}
+
+}  // namespace
 
 NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
                                     const std::string& context) {
@@ -19,7 +33,9 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
   bool last_full = false;
 
   for (int it = 0; it < settings_.max_iterations; ++it) {
+    Clock::time_point t0 = Clock::now();
     const Eigen::VectorXd g = E.gradient(x);
+    lap(t0, result.gradient_seconds);
     if (!g.allFinite()) {
       throw SolverError(context + ": non-finite energy gradient at Newton iteration " +
                         std::to_string(it));
@@ -27,17 +43,24 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     HessianKind kind = (last_full && last_velocity < settings_.exact_hessian_factor * tol)
                            ? HessianKind::kExact
                            : HessianKind::kProjected;
-    bool ok = solver_.factorize(E.hessian(x, kind), pattern);
+    const Eigen::SparseMatrix<double>* H = &E.hessian(x, kind);
+    lap(t0, result.assembly_seconds);
+    bool ok = solver_.factorize(*H, pattern);
+    lap(t0, result.factorization_seconds);
     if (!ok && kind == HessianKind::kExact) {
       ++result.projected_fallbacks;
       kind = HessianKind::kProjected;
-      ok = solver_.factorize(E.hessian(x, kind), pattern);
+      H = &E.hessian(x, kind);
+      lap(t0, result.assembly_seconds);
+      ok = solver_.factorize(*H, pattern);
+      lap(t0, result.factorization_seconds);
     }
     if (!ok) {
       throw SolverError(context + ": the projected Hessian is not positive definite at Newton "
                         "iteration " + std::to_string(it));
     }
     Eigen::VectorXd dq = -solver_.solve(g);
+    lap(t0, result.solve_seconds);
     ++result.iterations;
     // A projected Hessian that the projection left unchanged is the exact one.
     result.exact_factor =
@@ -73,6 +96,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
       alpha *= 0.5;
     }
     result.line_search_halvings += halvings;
+    lap(t0, result.line_search_seconds);
     if (callback_) {
       NewtonIteration info;
       info.iteration = it;

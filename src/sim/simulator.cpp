@@ -180,6 +180,11 @@ StepStats Simulator::advance() {
   s.line_search_halvings = r.line_search_halvings;
   s.ccd_limited_steps = r.ccd_limited_steps;
   s.projected_fallbacks = r.projected_fallbacks;
+  s.gradient_seconds = r.gradient_seconds;
+  s.assembly_seconds = r.assembly_seconds;
+  s.factorization_seconds = r.factorization_seconds;
+  s.solve_seconds = r.solve_seconds;
+  s.line_search_seconds = r.line_search_seconds;
   s.min_distance = contact_->min_distance(x);
   s.active_pairs = contact_->num_active_pairs(x);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

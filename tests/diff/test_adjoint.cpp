@@ -136,6 +136,26 @@ TEST(Adjoint, StoredFactorsGiveTheRebuiltGradient) {
   }
 }
 
+TEST(Adjoint, ReusedFactorBuffersGiveBitIdenticalGradients) {
+  // The second and later evaluations refill the stored factors in place (CholmodFactor::assign);
+  // the gradient must not depend on that, nor on a different design evaluated in between.
+  const test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);
+  const auto objective = reference_objective(b);
+  DesignSpace ds(b.mesh, test_design(kFieldSets.back()));
+  const Eigen::VectorXd theta = ds.initial_theta(true);
+  TrajectoryGradientFunction fresh(b.mesh, b.settings, b.q0, b.v0, ds, objective, FactorStorage::kStore);
+  TrajectoryGradientFunction reused(b.mesh, b.settings, b.q0, b.v0, ds, objective, FactorStorage::kStore);
+  Eigen::VectorXd g_fresh, g_other, g_again;
+  fresh.evaluate(theta, &g_fresh);
+  reused.evaluate(theta, &g_again);
+  reused.evaluate(ds.initial_theta(false), &g_other);
+  reused.evaluate(theta, &g_again);
+  EXPECT_EQ(reused.last().adjoint.stored_factor_solves, b.settings.num_steps);
+  ASSERT_EQ(g_fresh.size(), g_again.size());
+  EXPECT_TRUE(g_fresh == g_again) << "max difference " << (g_fresh - g_again).cwiseAbs().maxCoeff();
+  EXPECT_FALSE(g_fresh == g_other);
+}
+
 TEST(Adjoint, InitialStateAdjointMatchesFiniteDifferences) {
   // dC/dv_0 through the steps and the ballistic history, along one random direction.
   const test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);

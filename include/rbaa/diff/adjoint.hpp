@@ -68,6 +68,7 @@ struct AdjointStats {
   double seconds = 0;            ///< wall time of the backward pass
   double factorization_seconds = 0;  ///< of which numeric factorisations (rebuild)
   double solve_seconds = 0;      ///< of which triangular solves
+  double parameter_seconds = 0;  ///< of which the per-element parameter derivatives
 };
 
 struct AdjointResult {
@@ -106,6 +107,7 @@ class DifferentiableSimulator {
   FactorStorage storage_;
   MaterialField materials_;
   std::vector<std::unique_ptr<CholmodFactor>> factors_;  // per step, null: rebuild
+  std::vector<std::unique_ptr<CholmodFactor>> spare_;    // the last run's, refilled in place
   HessianFactorizer factorizer_;
 };
 

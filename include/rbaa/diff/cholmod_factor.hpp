@@ -22,6 +22,8 @@ struct cholmod_factor_struct;
 
 namespace rbaa {
 
+class LinearSolver;
+
 /// A factor of a symmetric matrix A that solves A x = b. Move-only.
 class CholmodFactor {
  public:
@@ -32,10 +34,24 @@ class CholmodFactor {
   CholmodFactor(const CholmodFactor&) = delete;
   CholmodFactor& operator=(const CholmodFactor&) = delete;
 
+  /// Makes this a copy of L. When this already holds a factor of the same symbolic structure
+  /// (same ordering and supernodes: a factor of the same pattern from the same analysis), only
+  /// the numeric values are copied into the existing buffers; otherwise a fresh deep copy is
+  /// made. The result is the same either way; reuse saves the allocation and page faults of a
+  /// new factor (the forward pass keeps one per step, every evaluation of an attack).
+  void assign(const cholmod_factor_struct* L);
+
+  /// Takes the values of `solver`'s last factorisation without copying them
+  /// (LinearSolver::give_factor_values: the arrays are exchanged), when this holds a factor of
+  /// the same structure; returns false otherwise (nothing changes; use assign).
+  bool take_values_from(LinearSolver& solver);
+
   /// x = A^-1 b.
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   /// Bytes held by the numeric factor and its index arrays.
   std::size_t bytes() const;
+  /// What a copy of L would hold (0 for null): the memory one stored step costs.
+  static std::size_t bytes_of(const cholmod_factor_struct* L);
   int rows() const;
 
  private:

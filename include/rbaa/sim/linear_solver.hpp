@@ -32,6 +32,13 @@ class LinearSolver {
   /// that keep a copy (the adjoint's stored factors, cholmod_copy_factor); valid until the next
   /// factorize().
   const cholmod_factor_struct* cholmod_factor() const;
+  /// Hands the numeric values of the last factorisation to `other`, a factor of the same
+  /// symbolic structure (a copy of an earlier factor of this solver), by exchanging the value
+  /// arrays instead of copying them; this solver takes other's old values and has no valid
+  /// factor until the next factorize(). Returns false (and changes nothing) when there is no
+  /// factor or the structures differ. The adjoint's stored factors use it to keep each step's
+  /// factor without copying it.
+  bool give_factor_values(cholmod_factor_struct* other);
   /// How many symbolic analyses and numeric factorisations ran (for reports and tests).
   int num_analyses() const { return analyses_; }
   int num_factorizations() const { return factorizations_; }

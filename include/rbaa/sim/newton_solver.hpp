@@ -43,6 +43,12 @@ struct NewtonResult {
   int line_search_halvings = 0;   ///< summed over the iterations
   int ccd_limited_steps = 0;      ///< steps shortened by the forms' max_step_size
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
+  // Where the time went (wall seconds, summed over the iterations).
+  double gradient_seconds = 0;       ///< energy gradients
+  double assembly_seconds = 0;       ///< Hessian assembly (element Hessians, projection, sums)
+  double factorization_seconds = 0;  ///< CHOLMOD numeric factorisations (incl. failed ones)
+  double solve_seconds = 0;          ///< triangular solves
+  double line_search_seconds = 0;    ///< step transform, CCD, energy differences
 };
 
 /// What one Newton iteration did (for progress reports and diagnosis).

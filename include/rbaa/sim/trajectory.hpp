@@ -20,6 +20,10 @@ struct StepStats {
   double min_distance = 0;       ///< smallest vertex-obstacle distance at the new q (m)
   int active_pairs = 0;          ///< contact pairs closer than d_hat at the new q
   double seconds = 0;            ///< wall time of the step
+  // Of which (NewtonResult's split): gradients, Hessian assembly, factorisations, solves,
+  // line search.
+  double gradient_seconds = 0, assembly_seconds = 0, factorization_seconds = 0,
+         solve_seconds = 0, line_search_seconds = 0;
 };
 
 struct Trajectory {
