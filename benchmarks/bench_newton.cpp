@@ -1,167 +1,138 @@
-// Newton iteration, CHOLMOD numeric factorisation and a whole time step on the paper's ball
-// (configs/ball.yaml, the reference material Y = 1e13), at the start of its contact step.
-// Prints the ratio Newton iteration / factorisation (target <= 1.3, SPEC section 10) with the
-// absolute times and the BLAS library actually mapped into the process.
+// Newton iteration, CHOLMOD numeric factorisation and a whole forward time step on the paper's
+// meshes (configs/{ball,star,bunny,cube}.yaml, the reference material Y = 1e13), at the start of
+// each scene's first contact step. Prints, per scene and measured in one run, the ratio Newton
+// iteration / factorisation (target <= 1.3, SPEC section 10) beside the absolute times, and the
+// BLAS library actually mapped into the process.
 //
-//   ./build/benchmarks/bench_newton [--config=configs/ball.yaml]
+//   ./build/benchmarks/bench_newton [--scenes=ball,star,bunny,cube] [--configs=configs]
+//                                   [--benchmark_repetitions=3]
 
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <cstdio>
-#include <cstring>
-#include <fstream>
 #include <memory>
-#include <set>
 #include <string>
+#include <vector>
 
-#include "rbaa/scene/scene.hpp"
+#include "bench_common.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulator.hpp"
 
 namespace {
 
-std::string g_config = "configs/ball.yaml";
-
 struct Fixture {
+  std::string name;
   std::unique_ptr<rbaa::Simulator> sim;
   rbaa::BdfIntegrator saved{rbaa::Integrator::kBdf2, 0.01};
   Eigen::VectorXd x;  // the first Newton iterate of the contact step
   int contact_step = 0;
 };
 
-Fixture& fixture() {
-  static Fixture f = [] {
-    Fixture f;
-    const rbaa::Scene scene = rbaa::load_scene(g_config);
-    const rbaa::TetMesh mesh = rbaa::make_scene_mesh(scene);
-    const double kappa = rbaa::scene_barrier_stiffness(scene, mesh);
-    f.sim = std::make_unique<rbaa::Simulator>(
-        mesh,
-        rbaa::MaterialField::uniform(mesh.num_tets(), scene.reference_Y, scene.reference_nu,
-                                     scene.reference_rho),
-        rbaa::simulation_settings(scene, kappa));
-    const Eigen::VectorXd q0 = f.sim->rest_positions();
-    f.sim->reset(q0, rbaa::rigid_velocities(q0, scene.position, scene.velocity,
-                                            scene.angular_velocity));
-    // Advance until the next step brings a vertex within d_hat: that step is the contact step.
-    for (int k = 0; k < 200; ++k) {
-      f.saved = f.sim->integrator();
-      const rbaa::StepStats s = f.sim->advance();
-      if (s.active_pairs > 0) {
-        f.contact_step = k + 1;
-        break;
-      }
+std::unique_ptr<Fixture> make_fixture(const rbaa_bench::Options& o, const std::string& name) {
+  auto f = std::make_unique<Fixture>();
+  f->name = name;
+  const rbaa::Scene scene = rbaa_bench::load(o, name);
+  const rbaa::TetMesh mesh = rbaa::make_scene_mesh(scene);
+  const double kappa = rbaa::scene_barrier_stiffness(scene, mesh);
+  f->sim = std::make_unique<rbaa::Simulator>(
+      mesh,
+      rbaa::MaterialField::uniform(mesh.num_tets(), scene.reference_Y, scene.reference_nu,
+                                   scene.reference_rho),
+      rbaa::simulation_settings(scene, kappa));
+  const Eigen::VectorXd q0 = f->sim->rest_positions();
+  f->sim->reset(q0, rbaa::rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity));
+  // Advance until a step ends within d_hat of an obstacle: that step is the contact step.
+  for (int k = 0; k < 400; ++k) {
+    f->saved = f->sim->integrator();
+    const rbaa::StepStats s = f->sim->advance();
+    if (s.active_pairs > 0) {
+      f->contact_step = k + 1;
+      break;
     }
-    f.sim->integrator() = f.saved;
-    f.x = f.sim->integrator().current();
-    f.sim->inertia_form().set_predictor(f.sim->integrator().predictor());
-    std::printf("ball: %d vertices, %d tets, %d dofs; contact step %d\n",
-                f.sim->rest_mesh().num_vertices(), f.sim->rest_mesh().num_tets(),
-                f.sim->num_dofs(), f.contact_step);
-    return f;
-  }();
+  }
+  f->sim->integrator() = f->saved;
+  f->x = f->sim->integrator().current();
+  f->sim->inertia_form().set_predictor(f->sim->integrator().predictor());
+  f->sim->potential().solution_changed(f->x);
+  std::printf("%s: %d vertices, %d tets, %d dofs; contact step %d\n", name.c_str(),
+              f->sim->rest_mesh().num_vertices(), f->sim->rest_mesh().num_tets(), f->sim->num_dofs(),
+              f->contact_step);
   return f;
 }
 
-double g_iteration_s = 0, g_factorization_s = 0, g_assembly_s = 0, g_step_s = 0;
-
 // One Newton iteration: gradient, projected Hessian assembly, factorisation, solve.
-void BM_NewtonIteration(benchmark::State& state) {
-  Fixture& f = fixture();
-  rbaa::IncrementalPotential& E = f.sim->potential();
-  rbaa::LinearSolver& solver = f.sim->newton().linear_solver();
-  const auto pattern = f.sim->hessian_pattern().pattern_version();
+void BM_NewtonIteration(benchmark::State& state, Fixture* f) {
+  rbaa::IncrementalPotential& E = f->sim->potential();
+  rbaa::LinearSolver& solver = f->sim->newton().linear_solver();
+  const auto pattern = f->sim->hessian_pattern().pattern_version();
   for (auto _ : state) {
-    const Eigen::VectorXd g = E.gradient(f.x);
-    solver.factorize(E.hessian(f.x, rbaa::HessianKind::kProjected), pattern);
+    const Eigen::VectorXd g = E.gradient(f->x);
+    solver.factorize(E.hessian(f->x, rbaa::HessianKind::kProjected), pattern);
     benchmark::DoNotOptimize(solver.solve(g));
   }
 }
 
-void BM_Assembly(benchmark::State& state) {
-  Fixture& f = fixture();
-  rbaa::IncrementalPotential& E = f.sim->potential();
+// Gradient and projected Hessian assembly (everything of an iteration but CHOLMOD).
+void BM_Assembly(benchmark::State& state, Fixture* f) {
+  rbaa::IncrementalPotential& E = f->sim->potential();
   for (auto _ : state) {
-    benchmark::DoNotOptimize(E.gradient(f.x));
-    benchmark::DoNotOptimize(E.hessian(f.x, rbaa::HessianKind::kProjected).nonZeros());
+    benchmark::DoNotOptimize(E.gradient(f->x));
+    benchmark::DoNotOptimize(E.hessian(f->x, rbaa::HessianKind::kProjected).nonZeros());
   }
 }
 
-void BM_Factorization(benchmark::State& state) {
-  Fixture& f = fixture();
-  rbaa::IncrementalPotential& E = f.sim->potential();
-  rbaa::LinearSolver& solver = f.sim->newton().linear_solver();
-  const auto pattern = f.sim->hessian_pattern().pattern_version();
-  const Eigen::SparseMatrix<double> H = E.hessian(f.x, rbaa::HessianKind::kProjected);
+void BM_Factorization(benchmark::State& state, Fixture* f) {
+  rbaa::IncrementalPotential& E = f->sim->potential();
+  rbaa::LinearSolver& solver = f->sim->newton().linear_solver();
+  const auto pattern = f->sim->hessian_pattern().pattern_version();
+  const Eigen::SparseMatrix<double> H = E.hessian(f->x, rbaa::HessianKind::kProjected);
   for (auto _ : state) benchmark::DoNotOptimize(solver.factorize(H, pattern));
 }
 
-void BM_ContactStep(benchmark::State& state) {
-  Fixture& f = fixture();
+// The whole contact step (all its Newton iterations).
+void BM_ForwardStep(benchmark::State& state, Fixture* f) {
   int iterations = 0;
   for (auto _ : state) {
-    f.sim->integrator() = f.saved;
-    iterations = f.sim->advance().newton_iterations;
+    f->sim->integrator() = f->saved;
+    iterations = f->sim->advance().newton_iterations;
   }
   state.counters["newton_iterations"] = iterations;
 }
 
-std::string loaded_blas() {
-  std::ifstream maps("/proc/self/maps");
-  std::set<std::string> libs;
-  for (std::string line; std::getline(maps, line);) {
-    const auto slash = line.find('/');
-    if (slash == std::string::npos) continue;
-    const std::string path = line.substr(slash);
-    for (const char* key : {"blas", "atlas", "lapack", "mkl"}) {
-      if (path.find(key) != std::string::npos) libs.insert(path);
-    }
-  }
-  std::string out;
-  for (const auto& l : libs) out += "  " + l + "\n";
-  return out.empty() ? "  (none mapped)\n" : out;
-}
-
-class RatioReporter : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& r : runs) {
-      const double s = r.GetAdjustedRealTime() * 1e-9 *
-                       (r.time_unit == benchmark::kMillisecond ? 1e6 : 1.0);
-      const std::string name = r.benchmark_name();
-      if (name.find("NewtonIteration") != std::string::npos) g_iteration_s = s;
-      if (name.find("Factorization") != std::string::npos) g_factorization_s = s;
-      if (name.find("Assembly") != std::string::npos) g_assembly_s = s;
-      if (name.find("ContactStep") != std::string::npos) g_step_s = s;
-    }
-    ConsoleReporter::ReportRuns(runs);
-  }
-};
-
 }  // namespace
 
-BENCHMARK(BM_NewtonIteration)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Assembly)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Factorization)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_ContactStep)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
-
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strncmp(argv[i], "--config=", 9)) g_config = argv[i] + 9;
-  }
+  const rbaa_bench::Options options =
+      rbaa_bench::parse_options(argc, argv, {"ball", "star", "bunny", "cube"});
   benchmark::Initialize(&argc, argv);
-  RatioReporter reporter;
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  std::printf("\nNewton iteration %.1f ms = assembly+projection %.1f ms + factorisation %.1f ms + solve/rest\n",
-              g_iteration_s * 1e3, g_assembly_s * 1e3, g_factorization_s * 1e3);
-  if (g_factorization_s > 0) {
-    std::printf("ratio Newton iteration / factorisation = %.2f (target <= 1.3)\n",
-                g_iteration_s / g_factorization_s);
+  std::vector<std::unique_ptr<Fixture>> fixtures;
+  for (const std::string& name : options.scenes) {
+    fixtures.push_back(make_fixture(options, name));
+    Fixture* f = fixtures.back().get();
+    benchmark::RegisterBenchmark(("NewtonIteration/" + name).c_str(), BM_NewtonIteration, f)
+        ->Unit(benchmark::kMillisecond)->UseRealTime();
+    benchmark::RegisterBenchmark(("Assembly/" + name).c_str(), BM_Assembly, f)
+        ->Unit(benchmark::kMillisecond)->UseRealTime();
+    benchmark::RegisterBenchmark(("Factorization/" + name).c_str(), BM_Factorization, f)
+        ->Unit(benchmark::kMillisecond)->UseRealTime();
+    benchmark::RegisterBenchmark(("ForwardStep/" + name).c_str(), BM_ForwardStep, f)
+        ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
   }
-  std::printf("contact step %.1f ms\nBLAS/LAPACK mapped into this process:\n%s", g_step_s * 1e3,
-              loaded_blas().c_str());
+  rbaa_bench::RecordingReporter reporter(options.cpu_time);
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+
+  std::printf("\n%-6s %8s %14s %10s %10s %14s %12s\n", "scene", "dofs", "Newton it (ms)",
+              "assembly", "factor", "it / factor", "contact step");
+  std::printf("%-6s %8s %14s %10s %10s %14s %12s\n", "", "", "", "(ms)", "(ms)", "(<= 1.3)", "(ms)");
+  for (const auto& f : fixtures) {
+    const std::string& n = f->name;
+    const double it = reporter.time("NewtonIteration/" + n), as = reporter.time("Assembly/" + n),
+                 fa = reporter.time("Factorization/" + n), st = reporter.time("ForwardStep/" + n);
+    std::printf("%-6s %8d %14.2f %10.2f %10.2f %14.2f %12.1f\n", n.c_str(), f->sim->num_dofs(),
+                it * 1e3, as * 1e3, fa * 1e3, fa > 0 ? it / fa : 0.0, st * 1e3);
+  }
+  std::printf("\n(%s time)\nBLAS/LAPACK mapped into this process:\n%s", options.cpu_time ? "CPU" : "wall", rbaa_bench::loaded_blas().c_str());
   benchmark::Shutdown();
   return 0;
 }

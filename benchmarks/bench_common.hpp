@@ -1,0 +1,129 @@
+#pragma once
+// What every rbaa benchmark shares (a header, so it does not become a binary of its own): the
+// paper's scenes loaded from configs/*.yaml, the BLAS/LAPACK libraries actually mapped into the
+// process (read from /proc/self/maps: a slower BLAS must not pass a ratio), and a reporter that
+// remembers every run's time so that main() can print ratios measured in the same run.
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "rbaa/scene/scene.hpp"
+
+namespace rbaa_bench {
+
+/// The scenes a benchmark runs: --scenes=ball,star,bunny,cube (default: all four), each loaded
+/// from <configs>/<scene>.yaml (--configs=DIR, default "configs", i.e. run from the repository
+/// root). Both flags are removed from argv before Google Benchmark sees it.
+struct Options {
+  std::vector<std::string> scenes{"ball", "star", "bunny", "cube"};
+  std::string configs = "configs";
+  /// --cpu_time: summaries use CPU time instead of wall time. Meaningful with one thread
+  /// (OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1), where it is immune to other processes' load.
+  bool cpu_time = false;
+};
+
+inline std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+inline Options parse_options(int& argc, char** argv, std::vector<std::string> default_scenes) {
+  Options o;
+  o.scenes = std::move(default_scenes);
+  int kept = 1;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strncmp(argv[i], "--scenes=", 9)) {
+      o.scenes = split_list(argv[i] + 9);
+    } else if (!std::strncmp(argv[i], "--configs=", 10)) {
+      o.configs = argv[i] + 10;
+    } else if (!std::strcmp(argv[i], "--cpu_time")) {
+      o.cpu_time = true;
+    } else {
+      argv[kept++] = argv[i];
+    }
+  }
+  argc = kept;
+  return o;
+}
+
+inline rbaa::Scene load(const Options& o, const std::string& scene,
+                        const std::vector<std::string>& overrides = {}) {
+  return rbaa::load_scene(o.configs + "/" + scene + ".yaml", overrides);
+}
+
+/// BLAS/LAPACK libraries mapped into this process (the ones CHOLMOD really calls).
+inline std::string loaded_blas() {
+  std::ifstream maps("/proc/self/maps");
+  std::set<std::string> libs;
+  for (std::string line; std::getline(maps, line);) {
+    const auto slash = line.find('/');
+    if (slash == std::string::npos) continue;
+    const std::string path = line.substr(slash);
+    for (const char* key : {"blas", "atlas", "lapack", "mkl"}) {
+      if (path.find(key) != std::string::npos) libs.insert(path);
+    }
+  }
+  std::string out;
+  for (const auto& l : libs) out += "  " + l + "\n";
+  return out.empty() ? "  (none mapped)\n" : out;
+}
+
+/// Console reporter that also keeps each run's real time (s; the minimum over repetitions: the
+/// machine is shared and the fastest run is the least disturbed) and counters by run name.
+class RecordingReporter : public benchmark::ConsoleReporter {
+ public:
+  explicit RecordingReporter(bool cpu_time = false) : cpu_time_(cpu_time) {}
+
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& r : runs) {
+      double unit = 1e-9;
+      if (r.time_unit == benchmark::kMicrosecond) unit = 1e-6;
+      if (r.time_unit == benchmark::kMillisecond) unit = 1e-3;
+      if (r.time_unit == benchmark::kSecond) unit = 1.0;
+      const double t = (cpu_time_ ? r.GetAdjustedCPUTime() : r.GetAdjustedRealTime()) * unit;
+      auto it = seconds.find(r.benchmark_name());
+      if (it == seconds.end() || t < it->second) seconds[r.benchmark_name()] = t;
+      for (const auto& c : r.counters) counters[r.benchmark_name()][c.first] = c.second.value;
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+  /// Time of the run whose name starts with `prefix` (0 when absent), aggregates left out.
+  double time(const std::string& prefix) const {
+    double best = 0;
+    for (const auto& [name, s] : seconds) {
+      if (name.rfind(prefix, 0) != 0) continue;
+      if (name.find("_mean") != std::string::npos || name.find("_median") != std::string::npos ||
+          name.find("_stddev") != std::string::npos || name.find("_cv") != std::string::npos) {
+        continue;
+      }
+      if (best == 0 || s < best) best = s;
+    }
+    return best;
+  }
+  double counter(const std::string& prefix, const std::string& key) const {
+    for (const auto& [name, c] : counters) {
+      if (name.rfind(prefix, 0) == 0 && c.count(key)) return c.at(key);
+    }
+    return 0;
+  }
+
+  std::map<std::string, double> seconds;
+  std::map<std::string, std::map<std::string, double>> counters;
+
+ private:
+  bool cpu_time_ = false;
+};
+
+}  // namespace rbaa_bench
