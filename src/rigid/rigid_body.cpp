@@ -2,6 +2,11 @@
 
 #include <Eigen/Dense>
 
+#include <LinearMath/btConvexHullComputer.h>
+
+#include <algorithm>
+#include <array>
+
 #include <sstream>
 
 #include "rbaa/mesh/topology.hpp"
@@ -66,7 +71,7 @@ std::string RigidShape::describe() const {
       out << "analytic box, half extents (" << half_extents.transpose() << ") m";
       break;
     case RigidShapeKind::kConvexHull:
-      out << "convex hull of " << points.rows() << " surface vertices";
+      out << "convex hull of " << points.rows() << " extreme surface vertices";
       break;
   }
   return out.str();
@@ -74,60 +79,39 @@ std::string RigidShape::describe() const {
 
 namespace {
 
-// Vertices of the outer boundary only: an adversarial object with void elements removed has
-// cavity surfaces too, which the collision shape must not see. The outer shell is the
-// vertex-connected component of boundary faces that holds the vertex of largest x.
-std::vector<int> outer_surface_vertices(const TetMesh& mesh) {
-  const Faces F = boundary_faces(mesh);
-  std::vector<int> parent(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) parent[v] = v;
-  auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    for (int c = 1; c < 3; ++c) parent[find(F(f, c))] = find(F(f, 0));
+// The extreme points of the surface: the vertices of the convex hull of the boundary vertices,
+// sorted. An adversarial object with void elements removed has cavity surfaces too, which lie
+// inside the hull and must not reach the collision shape (a cavity vertex made the attacked
+// ball's sphere fit fail, so it became a hull while the reference was a sphere: 5 cm apart in
+// Bullet). Sorting makes the hull's point order, and so Bullet's tie-breaking between equal
+// support points, independent of how the mesh numbers its vertices.
+Vertices hull_vertices(const TetMesh& mesh) {
+  const std::vector<int> surface = boundary_vertices(mesh);
+  std::vector<double> coords;
+  coords.reserve(3 * surface.size());
+  for (int v : surface) {
+    for (int c = 0; c < 3; ++c) coords.push_back(mesh.V(v, c));
   }
-  std::vector<char> on(mesh.num_vertices(), 0);
-  for (Eigen::Index i = 0; i < F.size(); ++i) on[F.data()[i]] = 1;
-  int extreme = -1;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (on[v] && (extreme < 0 || mesh.V(v, 0) > mesh.V(extreme, 0))) extreme = v;
+  btConvexHullComputer hull;
+  hull.compute(coords.data(), 3 * static_cast<int>(sizeof(double)), static_cast<int>(surface.size()), 0.0, 0.0);
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i < hull.vertices.size(); ++i) {
+    points.push_back({hull.vertices[i].x(), hull.vertices[i].y(), hull.vertices[i].z()});
   }
-  std::vector<int> out;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (on[v] && find(v) == find(extreme)) out.push_back(v);
-  }
-  return out;
+  std::sort(points.begin(), points.end());
+  Vertices P(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t i = 0; i < points.size(); ++i) P.row(static_cast<Eigen::Index>(i)) << points[i][0], points[i][1], points[i][2];
+  return P;
 }
 
 }  // namespace
 
 RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance, double box_tolerance) {
-  const std::vector<int> surface = outer_surface_vertices(mesh);
-  Vertices P(static_cast<Eigen::Index>(surface.size()), 3);
-  for (size_t i = 0; i < surface.size(); ++i) P.row(static_cast<Eigen::Index>(i)) = mesh.V.row(surface[i]);
+  const Vertices P = hull_vertices(mesh);
   const Eigen::RowVector3d lo = P.colwise().minCoeff(), hi = P.colwise().maxCoeff();
   const double size = (hi - lo).norm();
   RigidShape shape;
 
-  // Sphere: the least-squares sphere |x|^2 = 2 c.x + k through the surface vertices, accepted
-  // when every vertex lies on it.
-  Eigen::MatrixXd A(P.rows(), 4);
-  A << 2 * P, Eigen::VectorXd::Ones(P.rows());
-  const Eigen::VectorXd b = P.rowwise().squaredNorm();
-  const Eigen::Vector4d fit = A.colPivHouseholderQr().solve(b);
-  const Eigen::RowVector3d centre = fit.head<3>().transpose();
-  const double radius2 = fit[3] + centre.squaredNorm();
-  if (radius2 > 0) {
-    const Eigen::VectorXd r = (P.rowwise() - centre).rowwise().norm();
-    if (r.maxCoeff() - r.minCoeff() <= sphere_tolerance * size) {
-      shape.kind = RigidShapeKind::kSphere;
-      shape.centre = centre.transpose();
-      shape.radius = r.mean();
-      return shape;
-    }
-  }
   const Eigen::RowVector3d mid = (lo + hi) / 2;
   const double tol = box_tolerance * size;
   // Box: every surface vertex on a face of its bounding box, and the box's corners present.
@@ -146,6 +130,24 @@ RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance
     shape.centre = mid.transpose();
     shape.half_extents = ((hi - lo) / 2).transpose();
     return shape;
+  }
+  // Sphere: the least-squares sphere |x|^2 = 2 c.x + k through the surface vertices, accepted
+  // when every vertex lies on it.
+  Eigen::MatrixXd A(P.rows(), 4);
+  A << 2 * P, Eigen::VectorXd::Ones(P.rows());
+  const Eigen::VectorXd b = P.rowwise().squaredNorm();
+  const Eigen::Vector4d fit = A.colPivHouseholderQr().solve(b);
+  const Eigen::RowVector3d centre = fit.head<3>().transpose();
+  const double radius2 = fit[3] + centre.squaredNorm();
+  // A few points always lie on some sphere (a cube's eight corners do): a round surface has many.
+  if (radius2 > 0 && P.rows() >= 50) {
+    const Eigen::VectorXd r = (P.rowwise() - centre).rowwise().norm();
+    if (r.maxCoeff() - r.minCoeff() <= sphere_tolerance * size) {
+      shape.kind = RigidShapeKind::kSphere;
+      shape.centre = centre.transpose();
+      shape.radius = r.mean();
+      return shape;
+    }
   }
   shape.kind = RigidShapeKind::kConvexHull;
   shape.points = P;

@@ -7,6 +7,7 @@
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/mesh/grid_mesh.hpp"
 #include "rbaa/mesh/tetrahedralize.hpp"
+#include "rbaa/mesh/topology.hpp"
 #include "rbaa/rigid/rigid_body.hpp"
 #include "rbaa/rigid/rigid_simulation.hpp"
 
@@ -44,6 +45,22 @@ TEST(RigidBody, ShapeDetection) {
   EXPECT_EQ(box.kind, RigidShapeKind::kBox);
   EXPECT_NEAR(box.half_extents.x(), 0.025, 1e-12);
   EXPECT_EQ(rigid_shape_from_surface(mesh_shape("star", 600)).kind, RigidShapeKind::kConvexHull);
+  // A ball with cavities (interior elements removed, as after an attack) is still the same sphere.
+  const TetMesh ball = mesh_shape("sphere", 1500);
+  const std::vector<char> shell = boundary_elements(ball, true);
+  TetMesh hollow;
+  hollow.V = ball.V;
+  std::vector<int> kept;
+  for (int e = 0; e < ball.num_tets(); ++e) {
+    if (shell[e] || e % 3 != 0) kept.push_back(e);
+  }
+  hollow.T.resize(static_cast<Eigen::Index>(kept.size()), 4);
+  for (size_t i = 0; i < kept.size(); ++i) hollow.T.row(static_cast<Eigen::Index>(i)) = ball.T.row(kept[i]);
+  ASSERT_GT(boundary_vertices(hollow).size(), boundary_vertices(ball).size());  // cavities exist
+  const RigidShape a = rigid_shape_from_surface(ball), b = rigid_shape_from_surface(hollow);
+  EXPECT_EQ(b.kind, RigidShapeKind::kSphere);
+  EXPECT_EQ(a.radius, b.radius);
+  EXPECT_TRUE(a.centre == b.centre);
 }
 
 Scene empty_scene() {

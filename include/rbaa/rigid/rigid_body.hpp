@@ -34,7 +34,7 @@ struct RigidShape {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< sphere/box centre, mesh frame (m)
   double radius = 0;                                 ///< sphere (m)
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  ///< axis-aligned box (m)
-  Vertices points;  ///< convex hull: the surface vertices, mesh frame (#P by 3)
+  Vertices points;  ///< convex hull: its vertices (extreme surface vertices, sorted), mesh frame (#P by 3)
 
   std::string describe() const;
 };
