@@ -46,9 +46,16 @@ Eigen::Quaterniond best_fit_rotation(const Eigen::VectorXd& rest, const Eigen::V
 
 std::vector<Bounce> find_bounces(const std::vector<std::vector<double>>& distances,
                                  const std::vector<Eigen::Vector3d>& com_velocity,
-                                 const std::vector<Plane>& planes, double d_hat) {
+                                 const std::vector<Plane>& planes, double d_hat,
+                                 const Eigen::Vector3d& gravity, double time_step, int settle_steps) {
   std::vector<Bounce> bounces;
   const int n = static_cast<int>(distances.size());
+  auto in_contact = [&](int k) {
+    for (double d : distances[k]) {
+      if (d < d_hat) return true;
+    }
+    return false;
+  };
   for (int p = 0; p < static_cast<int>(planes.size()); ++p) {
     int k = 0;
     while (k < n) {
@@ -65,7 +72,13 @@ std::vector<Bounce> find_bounces(const std::vector<std::vector<double>>& distanc
       b.normal_velocity_in = normal.dot(com_velocity[std::max(0, b.first_step - 1)]);
       b.complete = k < n;
       if (b.complete) {
-        b.normal_velocity_out = normal.dot(com_velocity[k]);
+        // BDF-2's velocity settles after a bounce through its parasitic root 1/3 (the ball's
+        // rebound read 0.925 one step after contact and 1.166 once settled), so the outgoing
+        // velocity is read `settle_steps` later (before any next contact), with the gravity of the
+        // steps in between taken back out.
+        int j = k;
+        while (j + 1 < n && j - k < settle_steps && !in_contact(j + 1)) ++j;
+        b.normal_velocity_out = normal.dot(com_velocity[j] - gravity * time_step * (j - k));
         b.restitution = -b.normal_velocity_out / b.normal_velocity_in;
       } else {
         b.normal_velocity_out = normal.dot(com_velocity[n - 1]);

@@ -83,7 +83,8 @@ SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
     distances.push_back(o.plane_distance);
     velocities.push_back(o.com_velocity);
   }
-  run.bounces = find_bounces(distances, velocities, run.settings.planes, run.settings.d_hat);
+  run.bounces = find_bounces(distances, velocities, run.settings.planes, run.settings.d_hat,
+                             run.settings.gravity, run.settings.time_step);
   return run;
 }
 

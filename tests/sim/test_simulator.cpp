@@ -105,7 +105,7 @@ BounceRun simulate_bounce(const TetMesh& mesh, const MaterialField& field, Simul
     distances.push_back(set.min_distance_per_plane(r.trajectory.q[k]));
     velocities.push_back(com_velocity(r.trajectory, k, sim.vertex_masses()));
   }
-  r.bounces = find_bounces(distances, velocities, s.planes, s.d_hat);
+  r.bounces = find_bounces(distances, velocities, s.planes, s.d_hat, s.gravity, s.time_step);
   for (const StepStats& st : r.trajectory.steps) {
     r.min_distance = std::min(r.min_distance, st.min_distance);
     r.max_iterations = std::max(r.max_iterations, st.newton_iterations);

@@ -40,9 +40,13 @@ struct Bounce {
 };
 
 /// Bounces of a trajectory. `distances[k][p]`: minimum distance of the surface to plane p at
-/// position k; `com_velocity[k]`: the centre of mass velocity at position k.
+/// position k; `com_velocity[k]`: the centre of mass velocity at position k. The outgoing
+/// velocity is read `settle_steps` steps after the episode (fewer if another contact starts),
+/// minus the gravity of those steps: BDF-2's velocity needs a few steps to settle after a bounce.
 std::vector<Bounce> find_bounces(const std::vector<std::vector<double>>& distances,
                                  const std::vector<Eigen::Vector3d>& com_velocity,
-                                 const std::vector<Plane>& planes, double d_hat);
+                                 const std::vector<Plane>& planes, double d_hat,
+                                 const Eigen::Vector3d& gravity, double time_step,
+                                 int settle_steps = 5);
 
 }  // namespace rbaa
