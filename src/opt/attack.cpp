@@ -107,6 +107,9 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   stage("optimising (" + std::to_string(scene.iterations) + " iterations, " + std::to_string(design.size()) +
         " design variables)");
   r.loop = run_attack_loop(design, moments, smoother.get(), term, theta0, loop);
+  if (!r.loop.stopped_early.empty()) {
+    stage("stopped early, keeping the last design whose simulation succeeded: " + r.loop.stopped_early);
+  }
 
   // The initial gap is the first iteration's; without iterations it is measured here.
   if (!r.loop.progress.empty()) {
@@ -198,6 +201,7 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
       {"scene", scene.name},
       {"config", scene.source},
       {"iterations", static_cast<int>(r.loop.progress.size())},
+      {"stopped_early", r.loop.stopped_early.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.loop.stopped_early)},
       {"kappa", r.kappa},
       {"fields", scene.fields},
       {"settings", {{"beta", scene.beta}, {"learning_rate", scene.learning_rate}, {"adam_beta1", scene.adam_beta1},

@@ -38,6 +38,7 @@ void save_checkpoint(const std::string& path, const AttackCheckpoint& c) {
                             {"fingerprint", c.fingerprint},
                             {"iteration", c.iteration},
                             {"theta", to_json(c.theta)},
+                            {"evaluated_theta", to_json(c.evaluated_theta)},
                             {"adam", {{"m", to_json(c.adam.m)}, {"v", to_json(c.adam.v)}, {"steps", c.adam.steps}}},
                             {"progress", rows},
                             {"forward_seconds", c.forward_seconds},
@@ -58,6 +59,7 @@ AttackCheckpoint load_checkpoint(const std::string& path, const std::string& exp
     c.fingerprint = j.at("fingerprint").get<std::string>();
     c.iteration = j.at("iteration").get<int>();
     c.theta = vector_from(j.at("theta"));
+    c.evaluated_theta = j.contains("evaluated_theta") ? vector_from(j.at("evaluated_theta")) : Eigen::VectorXd();
     c.adam.m = vector_from(j.at("adam").at("m"));
     c.adam.v = vector_from(j.at("adam").at("v"));
     c.adam.steps = j.at("adam").at("steps").get<std::int64_t>();
@@ -113,6 +115,7 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
   AttackLoopResult result;
   Adam adam(options.adam);
   Eigen::VectorXd theta = theta0;
+  Eigen::VectorXd evaluated;  // the last design whose simulation succeeded
   int start = 0;
   if (options.resume && !options.checkpoint_path.empty() && std::filesystem::exists(options.checkpoint_path)) {
     AttackCheckpoint c = load_checkpoint(options.checkpoint_path, options.fingerprint, design.size());
@@ -123,6 +126,7 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     result.adjoint_seconds = c.adjoint_seconds;
     result.elapsed_seconds = c.elapsed_seconds;
     start = result.resumed_from = c.iteration;
+    evaluated = c.evaluated_theta;
   } else if (options.project_moments) {
     // The seeded perturbation of theta_0 breaks the moments (1e-2 on the ball); start from the
     // nearest matched design instead, so that the first gap measures dynamics, not mass shift.
@@ -131,7 +135,17 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
   for (int k = start; k < options.iterations; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
     Eigen::VectorXd grad_traj, grad_moment;
-    const TrajectoryTermValue traj = trajectory(theta, &grad_traj);
+    TrajectoryTermValue traj;
+    try {
+      traj = trajectory(theta, &grad_traj);
+    } catch (const SolverError& e) {
+      // Keep what the run has: stop at the last design whose simulation succeeded.
+      if (evaluated.size() == 0) throw;
+      result.stopped_early = e.what();
+      theta = evaluated;
+      break;
+    }
+    evaluated = theta;
     const double moment_term = moments.penalty(theta, options.beta, &grad_moment);
     Eigen::VectorXd gradient = grad_traj + grad_moment;
     // The smoothing acts on the whole occupancy gradient (SPEC section 4).
@@ -160,7 +174,7 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     result.elapsed_seconds += row.seconds;
     if (!options.checkpoint_path.empty()) {
       save_checkpoint(options.checkpoint_path,
-                      {options.fingerprint, k + 1, theta, adam.state(), result.progress,
+                      {options.fingerprint, k + 1, theta, evaluated, adam.state(), result.progress,
                        result.forward_seconds, result.adjoint_seconds, result.elapsed_seconds});
     }
     if (!options.progress_path.empty()) write_progress_csv(options.progress_path, result.progress);

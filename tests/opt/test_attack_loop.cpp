@@ -94,6 +94,38 @@ TEST_F(AttackLoop, IncompatibleCheckpointIsAClearError) {
   EXPECT_THROW(run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, broken), InputError);
 }
 
+// A simulation that fails (Newton did not converge) keeps what the run has: the loop stops at the
+// last design whose simulation succeeded, also when the failure comes first after a resume.
+TEST_F(AttackLoop, FailedSimulationStopsAtTheLastGoodDesign) {
+  const Eigen::VectorXd theta0 = design_->initial_theta();
+  std::vector<Eigen::VectorXd> seen;
+  int calls = 0, fail_at = 3;
+  const TrajectoryTerm base = fake_term();
+  const TrajectoryTerm failing = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* g) {
+    if (calls++ == fail_at) throw SolverError("step 5: Newton did not converge");
+    seen.push_back(theta);
+    return base(theta, g);
+  };
+  const AttackLoopResult r = run_attack_loop(*design_, *moments_, smoother_.get(), failing, theta0, options(6));
+  EXPECT_NE(r.stopped_early.find("Newton"), std::string::npos);
+  EXPECT_EQ(r.progress.size(), 3u);
+  EXPECT_TRUE(r.theta == seen.back());  // the last design that was simulated
+
+  // Resume: the checkpoint's next design fails at once; the run falls back to the one before.
+  calls = 0;
+  fail_at = 0;
+  seen.clear();
+  AttackLoopOptions resume = options(6);
+  resume.resume = true;
+  const AttackLoopResult again = run_attack_loop(*design_, *moments_, smoother_.get(), failing, theta0, resume);
+  EXPECT_FALSE(again.stopped_early.empty());
+  EXPECT_TRUE(again.theta == r.theta);
+  // Without any simulated design there is nothing to keep: the error propagates.
+  std::filesystem::remove(dir_ + "/checkpoint.json");
+  calls = 0;
+  EXPECT_THROW(run_attack_loop(*design_, *moments_, smoother_.get(), failing, theta0, options(6)), SolverError);
+}
+
 TEST(PostProcess, RoundsRepairsRefitsAndRemovesVoids) {
   const TetMesh mesh = box_tet_mesh({-0.2, -0.1, 0.3}, {0.2, 0.1, 0.6}, 6, 4, 5);
   DesignSpaceOptions o;

@@ -46,6 +46,9 @@ struct AttackCheckpoint {
   std::string fingerprint;  ///< identifies the scene and settings the run belongs to
   int iteration = 0;        ///< iterations completed
   Eigen::VectorXd theta;
+  /// The last design whose simulation succeeded (theta before the last step): where the run can
+  /// fall back to if the simulation of `theta` fails.
+  Eigen::VectorXd evaluated_theta;
   AdamState adam;
   std::vector<ProgressRow> progress;
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
@@ -79,7 +82,11 @@ struct AttackLoopOptions {
 };
 
 struct AttackLoopResult {
-  Eigen::VectorXd theta;  ///< after the last step
+  Eigen::VectorXd theta;  ///< after the last step (or the last simulated design, if stopped early)
+  /// Non-empty when a simulation failed (rbaa::SolverError) after at least one design had been
+  /// simulated: the loop then stops, theta is the last design whose simulation succeeded, and this
+  /// holds the error. A failure before any design was simulated is thrown.
+  std::string stopped_early;
   std::vector<ProgressRow> progress;
   int resumed_from = 0;   ///< iterations loaded from the checkpoint
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
