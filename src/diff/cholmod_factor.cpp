@@ -86,35 +86,10 @@ std::unique_ptr<CholmodFactor> CholmodFactor::copy_of(const cholmod_factor_struc
   return f;
 }
 
-namespace {
-
-template <typename T>
-bool same_array(const void* a, const void* b, std::size_t n) {
-  return n == 0 || (a != nullptr && b != nullptr && std::memcmp(a, b, n * sizeof(T)) == 0);
-}
-
-// Whether two supernodal real factors share their symbolic structure, so that copying L->x
-// alone turns one into the other.
-bool same_structure(const cholmod_factor* a, const cholmod_factor* b) {
-  if (!a->is_super || !b->is_super || a->xtype != CHOLMOD_REAL || b->xtype != CHOLMOD_REAL) return false;
-  if (a->itype != CHOLMOD_INT || b->itype != CHOLMOD_INT || a->dtype != b->dtype) return false;
-  if (a->n != b->n || a->nsuper != b->nsuper || a->ssize != b->ssize || a->xsize != b->xsize ||
-      a->is_ll != b->is_ll || a->ordering != b->ordering || a->maxcsize != b->maxcsize ||
-      a->maxesize != b->maxesize) {
-    return false;
-  }
-  return same_array<int>(a->Perm, b->Perm, a->n) && same_array<int>(a->ColCount, b->ColCount, a->n) &&
-         same_array<int>(a->super, b->super, a->nsuper + 1) &&
-         same_array<int>(a->pi, b->pi, a->nsuper + 1) && same_array<int>(a->px, b->px, a->nsuper + 1) &&
-         same_array<int>(a->s, b->s, a->ssize);
-}
-
-}  // namespace
-
 void CholmodFactor::assign(const cholmod_factor_struct* L) {
   if (L == nullptr) throw SolverError("no CHOLMOD factor to copy");
   cholmod_factor* mine = impl_->L;
-  if (mine != nullptr && same_structure(mine, L)) {
+  if (mine != nullptr && same_cholmod_structure(mine, L)) {
     std::memcpy(mine->x, L->x, L->xsize * sizeof(double));
     return;
   }

@@ -22,20 +22,21 @@ bool same_array(const void* a, const void* b, std::size_t n) {
   return n == 0 || (a != nullptr && b != nullptr && std::memcmp(a, b, n * sizeof(T)) == 0);
 }
 
-// Whether two supernodal real factors share their symbolic structure (then their value arrays
-// are interchangeable).
-bool same_structure(const cholmod_factor* a, const cholmod_factor* b) {
+}  // namespace
+
+bool same_cholmod_structure(const cholmod_factor_struct* a, const cholmod_factor_struct* b) {
   if (!a->is_super || !b->is_super || a->xtype != CHOLMOD_REAL || b->xtype != CHOLMOD_REAL) return false;
-  if (a->itype != b->itype || a->dtype != b->dtype || a->n != b->n || a->nsuper != b->nsuper ||
-      a->ssize != b->ssize || a->xsize != b->xsize || a->is_ll != b->is_ll) {
+  if (a->itype != CHOLMOD_INT || b->itype != CHOLMOD_INT || a->dtype != b->dtype) return false;
+  if (a->n != b->n || a->nsuper != b->nsuper || a->ssize != b->ssize || a->xsize != b->xsize ||
+      a->is_ll != b->is_ll || a->ordering != b->ordering || a->maxcsize != b->maxcsize ||
+      a->maxesize != b->maxesize) {
     return false;
   }
-  return same_array<int>(a->Perm, b->Perm, a->n) && same_array<int>(a->super, b->super, a->nsuper + 1) &&
+  return same_array<int>(a->Perm, b->Perm, a->n) && same_array<int>(a->ColCount, b->ColCount, a->n) &&
+         same_array<int>(a->super, b->super, a->nsuper + 1) &&
          same_array<int>(a->pi, b->pi, a->nsuper + 1) && same_array<int>(a->px, b->px, a->nsuper + 1) &&
          same_array<int>(a->s, b->s, a->ssize);
 }
-
-}  // namespace
 
 struct LinearSolver::Impl {
   SupernodalLlt llt;
@@ -71,7 +72,7 @@ const cholmod_factor_struct* LinearSolver::cholmod_factor() const {
 bool LinearSolver::give_factor_values(cholmod_factor_struct* other) {
   if (!factored_ || other == nullptr) return false;
   ::cholmod_factor* mine = impl_->llt.factor();
-  if (mine == nullptr || !same_structure(mine, other)) return false;
+  if (mine == nullptr || !same_cholmod_structure(mine, other)) return false;
   std::swap(mine->x, other->x);
   factored_ = false;
   return true;

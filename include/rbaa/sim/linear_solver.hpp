@@ -14,6 +14,10 @@ struct cholmod_factor_struct;
 
 namespace rbaa {
 
+/// Whether two supernodal real CHOLMOD factors (int indices) share their symbolic structure, so
+/// that their value arrays are interchangeable (the adjoint refills stored factors this way).
+bool same_cholmod_structure(const cholmod_factor_struct* a, const cholmod_factor_struct* b);
+
 class LinearSolver {
  public:
   LinearSolver();
