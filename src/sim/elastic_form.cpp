@@ -133,41 +133,24 @@ void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKin
                               SparseHessian& hessian) const {
   const int nt = num_elements();
   const bool project = kind == HessianKind::kProjected;
-  // Eigenvalues below -1e-12 (mu + lambda) count as a real change by the projection; the rotation
-  // modes of an unstrained element sit at +-1e-16 mu and clamping those changes nothing.
+  // The rotation modes of an unstrained element sit at +-1e-16 mu: clamping those changes nothing
+  // and does not count as a projection (the adjoint may then reuse Newton's factor).
   bool clamped = false;
 #pragma omp parallel for schedule(static) reduction(|| : clamped) if (nt > kParallelElements)
   for (int e = 0; e < nt; ++e) {
     const Eigen::Matrix3d F = deformation_gradient(q, e);
     double* H = hessian.element_block(e);
     const double w = scale * weight_[e];
-    // The closed-form d2Psi/dF2 is exact and ~4x cheaper than the eigensystem (an SVD and a 3x3
-    // eigenproblem, three quarters of the assembly's time). The projection needs the
-    // eigensystem only where d2Psi/dF2 is not positive definite, which a 9x9 Cholesky tells.
-    const Eigen::Matrix<double, 9, 9> H9 = snh::hessian(F, mu_[e], lambda_[e]);
-    if (!project || Eigen::LLT<Eigen::Matrix<double, 9, 9>>(H9).info() == Eigen::Success) {
-      add_pulled_back(H9, B_[e], w, H);
-      continue;
-    }
-    const snh::Eigensystem es = snh::hessian_eigensystem(F, mu_[e], lambda_[e]);
-    const double significant = -1e-12 * (mu_[e] + lambda_[e]);
-    for (int m = 0; m < 9; ++m) {
-      double value = es.values[m];
-      if (value <= 0) {
-        if (value < significant) clamped = true;
-        continue;
+    Eigen::Matrix<double, 9, 9> H9;
+    if (project) {
+      // Eigenvalues below -1e-12 (mu + lambda) count as a real change by the projection.
+      if (snh::projected_hessian(F, mu_[e], lambda_[e], H9) < -1e-12 * (mu_[e] + lambda_[e])) {
+        clamped = true;
       }
-      value *= w;
-      // Mode m of d2Psi/dF2 seen by the element's dofs: dF = sum_a dx_a b_a^T, so the 12-vector
-      // is (Q_m b_a)_a and the element Hessian gets value * v v^T.
-      Eigen::Matrix<double, 3, 4> v = es.modes[m] * B_[e];
-      const double* vp = v.data();
-      int p = 0;
-      for (int c = 0; c < 12; ++c) {
-        const double vc = value * vp[c];
-        for (int r = c; r < 12; ++r) H[p++] += vc * vp[r];
-      }
+    } else {
+      H9 = snh::hessian(F, mu_[e], lambda_[e]);
     }
+    add_pulled_back(H9, B_[e], w, H);
   }
   if (clamped) hessian.mark_projection_active();
 }

@@ -70,27 +70,84 @@ Eigen::Matrix<double, 9, 9> hessian(const Eigen::Matrix3d& F, double mu, double 
          (lambda * (J - 1.0) - mu) * HJ;
 }
 
+namespace {
+
+// Nearly rank-deficient F (never met by a simulated element): Eigen's Jacobi SVD, made
+// rotation-variant. Kept out of line: inlined, GCC 12 warns about Eigen's own internals.
+[[gnu::noinline]] RotationVariantSvd jacobi_svd(const Eigen::Matrix3d& F) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  RotationVariantSvd r{svd.matrixU(), svd.matrixV(), svd.singularValues()};
+  if (r.U.determinant() < 0) {
+    r.U.col(2) *= -1.0;
+    r.s[2] *= -1.0;
+  }
+  if (r.V.determinant() < 0) {
+    r.V.col(2) *= -1.0;
+    r.s[2] *= -1.0;
+  }
+  return r;
+}
+
+}  // namespace
+
+RotationVariantSvd rotation_variant_svd(const Eigen::Matrix3d& F) {
+  RotationVariantSvd r;
+  // Fast path: V from the closed-form eigenvectors of F^T F, U from F V. Within a cluster of equal
+  // singular values V is arbitrary, and U = F V / s stays consistent with it, so F = U S V^T holds
+  // to round-off even where the eigenvectors of F^T F are ill-determined.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(F.transpose() * F);
+  Eigen::Matrix3d V = eig.eigenvectors().rowwise().reverse();  // descending singular values
+  if (V.determinant() < 0) V.col(2) *= -1.0;
+  const Eigen::Vector3d f0 = F * V.col(0), f1 = F * V.col(1), f2 = F * V.col(2);
+  const double s0 = f0.norm();
+  Eigen::Vector3d u1 = f1;
+  bool ok = s0 > 0;
+  if (ok) {
+    const Eigen::Vector3d u0 = f0 / s0;
+    u1 -= u0.dot(u1) * u0;
+    const double s1 = u1.norm();
+    ok = s1 > 1e-6 * s0;
+    if (ok) {
+      u1 /= s1;
+      r.U.col(0) = u0;
+      r.U.col(1) = u1;
+      r.U.col(2) = u0.cross(u1);
+      r.V = V;
+      r.s = Eigen::Vector3d(s0, f1.dot(u1), f2.dot(r.U.col(2)));
+      const Eigen::Matrix3d residual = r.U * r.s.asDiagonal() * r.V.transpose() - F;
+      ok = residual.norm() <= 1e-13 * s0;
+    }
+  }
+  return ok ? r : jacobi_svd(F);
+}
+
+namespace {
+
+// The 3 x 3 block of d2Psi/dF2 in the scaling modes U diag(c) V^T.
+Eigen::Matrix3d scaling_block(const Eigen::Vector3d& s, double mu, double lambda) {
+  const double t = lambda * (s[0] * s[1] * s[2] - 1.0) - mu;
+  const Eigen::Vector3d g(s[1] * s[2], s[0] * s[2], s[0] * s[1]);
+  Eigen::Matrix3d H;
+  H << 0, s[2], s[1], s[2], 0, s[0], s[1], s[0], 0;
+  return mu * Eigen::Matrix3d::Identity() + lambda * g * g.transpose() + t * H;
+}
+
+constexpr int kPairs[3][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}};
+
+}  // namespace
+
 Eigensystem hessian_eigensystem(const Eigen::Matrix3d& F, double mu, double lambda) {
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d U = svd.matrixU(), V = svd.matrixV();
-  Eigen::Vector3d s = svd.singularValues();
-  // Rotation-variant SVD: U and V proper rotations, the sign of det F carried by s2.
-  if (U.determinant() < 0) {
-    U.col(2) *= -1.0;
-    s[2] *= -1.0;
-  }
-  if (V.determinant() < 0) {
-    V.col(2) *= -1.0;
-    s[2] *= -1.0;
-  }
-  const double J = s[0] * s[1] * s[2];
-  const double t = lambda * (J - 1.0) - mu;
+  const RotationVariantSvd svd = rotation_variant_svd(F);
+  const Eigen::Matrix3d& U = svd.U;
+  const Eigen::Matrix3d& V = svd.V;
+  const Eigen::Vector3d& s = svd.s;
+  const double t = lambda * (s[0] * s[1] * s[2] - 1.0) - mu;
 
   Eigensystem es;
   const double r = std::sqrt(0.5);
-  const int pairs[3][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}};
   for (int p = 0; p < 3; ++p) {
-    const int i = pairs[p][0], j = pairs[p][1], k = pairs[p][2];
+    const int i = kPairs[p][0], j = kPairs[p][1], k = kPairs[p][2];
     // Within span{U e_i e_j^T V^T, U e_j e_i^T V^T}, d2J/dF2 = [[0, -s_k], [-s_k, 0]].
     const Eigen::Matrix3d a = U.col(i) * V.col(j).transpose(), b = U.col(j) * V.col(i).transpose();
     es.modes[2 * p] = r * (a + b);
@@ -98,17 +155,58 @@ Eigensystem hessian_eigensystem(const Eigen::Matrix3d& F, double mu, double lamb
     es.modes[2 * p + 1] = r * (a - b);
     es.values[2 * p + 1] = mu + t * s[k];
   }
-  const Eigen::Vector3d g(s[1] * s[2], s[0] * s[2], s[0] * s[1]);
-  Eigen::Matrix3d H;
-  H << 0, s[2], s[1], s[2], 0, s[0], s[1], s[0], 0;
-  const Eigen::Matrix3d K = mu * Eigen::Matrix3d::Identity() + lambda * g * g.transpose() + t * H;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(K);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scaling_block(s, mu, lambda));
   for (int m = 0; m < 3; ++m) {
     const Eigen::Vector3d c = eig.eigenvectors().col(m);
     es.modes[6 + m] = U * c.asDiagonal() * V.transpose();
     es.values[6 + m] = eig.eigenvalues()[m];
   }
   return es;
+}
+
+double projected_hessian(const Eigen::Matrix3d& F, double mu, double lambda,
+                         Eigen::Matrix<double, 9, 9>& H) {
+  H = hessian(F, mu, lambda);
+  // One rotation-variant SVD gives the nine eigenvalues; most elements of a body at rest or in
+  // flight have none below round-off and keep the exact closed form, the others lose their
+  // negative modes (at most five of nine), built only for those.
+  const double zero = -1e-14 * (mu + lambda);  // round-off zeros: rotations of a resting element
+  const RotationVariantSvd svd = rotation_variant_svd(F);
+  const Eigen::Vector3d& sv = svd.s;
+  const double tv = lambda * (sv[0] * sv[1] * sv[2] - 1.0) - mu;
+  bool negative = mu - std::abs(tv * sv[0]) < zero;  // |s0| is the largest
+  const Eigen::Matrix3d Kv = scaling_block(sv, mu, lambda);
+  // K - zero I positive definite (leading minors) <=> no scaling eigenvalue below zero.
+  const Eigen::Matrix3d Kz = Kv - zero * Eigen::Matrix3d::Identity();
+  negative |= !(Kz(0, 0) > 0 && Kz(0, 0) * Kz(1, 1) - Kz(0, 1) * Kz(0, 1) > 0 && Kz.determinant() > 0);
+  if (!negative) return 0.0;
+
+  double most_negative = 0.0;
+  auto remove = [&](double value, const Eigen::Matrix3d& mode) {
+    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> v(mode.data());
+    H.noalias() -= value * v * v.transpose();
+    most_negative = std::min(most_negative, value);
+  };
+  const double r = std::sqrt(0.5);
+  for (int p = 0; p < 3; ++p) {
+    const int i = kPairs[p][0], j = kPairs[p][1], k = kPairs[p][2];
+    const double twist = mu - tv * sv[k], flip = mu + tv * sv[k];
+    if (twist >= 0 && flip >= 0) continue;
+    const Eigen::Matrix3d a = svd.U.col(i) * svd.V.col(j).transpose();
+    const Eigen::Matrix3d b = svd.U.col(j) * svd.V.col(i).transpose();
+    if (twist < 0) remove(twist, r * (a + b));
+    if (flip < 0) remove(flip, r * (a - b));
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> scale_eig;
+  scale_eig.computeDirect(Kv, Eigen::EigenvaluesOnly);
+  if (scale_eig.eigenvalues()[0] < 0) {
+    scale_eig.compute(Kv);  // the iterative solver: accurate vectors for clustered values
+    for (int m = 0; m < 3 && scale_eig.eigenvalues()[m] < 0; ++m) {
+      remove(scale_eig.eigenvalues()[m],
+             svd.U * scale_eig.eigenvectors().col(m).asDiagonal() * svd.V.transpose());
+    }
+  }
+  return most_negative;
 }
 
 }  // namespace rbaa::snh
