@@ -103,5 +103,6 @@ RBAA_REGISTER_VERB(attack, rbaa::cli::Verb{
     "re-simulates the final object. Progress goes to stderr and DIR/progress.csv; DIR/checkpoint.json\n"
     "is written atomically after every iteration (--resume continues from it). Writes\n"
     "DIR/adversarial.msh and .vtu (final object, element data Y, nu, rho, alpha), DIR/continuous.msh\n"
-    "and DIR/report.json.",
+    "and DIR/report.json. A simulation that fails mid-run (Newton) stops the loop at the last design\n"
+    "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate --materials).",
     flags(), run_attack_verb});

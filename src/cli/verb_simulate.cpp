@@ -16,6 +16,9 @@ DECLARE_string(materials);
 DECLARE_string(out);  // here: the output directory
 DEFINE_int32(vtu_every, 1, "write every k-th step as .vtu for ParaView (0: none)");
 DEFINE_bool(progress, true, "print one line per step on stderr");
+DEFINE_bool(newton_log, false,
+            "print one line per Newton iteration on stderr (Hessian kind, step velocity, CCD and "
+            "line-search fractions, energy change): for a step that does not converge");
 
 namespace {
 
@@ -35,6 +38,15 @@ int run_simulate() {
                    step * scene.time_step, s.newton_iterations, s.min_distance, s.seconds);
     };
   }
+  if (FLAGS_newton_log) {
+    options.on_newton_iteration = [](const std::string& context, const rbaa::NewtonIteration& it) {
+      std::fprintf(stderr,
+                   "  %s  it %3d  %s  v %.3e m/s  ccd %.3g  alpha %.3g  dE %.3e  g.dq %.3e  dof %ld\n",
+                   context.c_str(), it.iteration, it.exact_hessian ? "exact    " : "projected",
+                   it.step_velocity, it.max_step_fraction, it.step_fraction, it.energy_change,
+                   it.directional_derivative, static_cast<long>(it.largest_dof));
+    };
+  }
   const rbaa::SimulationRun run = rbaa::run_simulation(scene, mesh, materials, options);
   rbaa::OutputOptions out;
   out.vtu_every = FLAGS_vtu_every;
@@ -51,7 +63,7 @@ int run_simulate() {
 
 std::vector<std::string> flags() {
   std::vector<std::string> f = rbaa::cli::scene_flag_names();
-  f.insert(f.end(), {"materials", "out", "vtu_every", "progress"});
+  f.insert(f.end(), {"materials", "out", "vtu_every", "progress", "newton_log"});
   return f;
 }
 

@@ -127,6 +127,7 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   r.com_gap_continuous = final_value.com_gap;
   r.objective_final = final_value.value + moments.penalty(r.loop.theta, scene.beta, nullptr);
   r.continuous = design.to_material(r.loop.theta);
+  if (r.loop.failed_theta.size() > 0) r.failed = design.to_material(r.loop.failed_theta);
   r.continuous_max_residual = moments.residuals(r.loop.theta).cwiseAbs().maxCoeff();
 
   stage("post-processing: rounding, connectivity, density re-fit");
@@ -187,6 +188,8 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
   const SolidObject& solid = r.post.solid;
   write_tet_mesh(dir + "/adversarial.msh", solid.mesh, material_element_data(solid.materials));
   write_tet_mesh(dir + "/continuous.msh", r.mesh, material_element_data(r.continuous));
+  // The design the simulator failed on, for `rbaa simulate --materials=DIR/failed_design.msh`.
+  if (r.failed.size() > 0) write_tet_mesh(dir + "/failed_design.msh", r.mesh, material_element_data(r.failed));
   VtuFields cells;
   for (const auto& [name, values] : material_element_data(solid.materials)) cells[name] = values;
   write_vtu(dir + "/adversarial.vtu", solid.mesh, {}, cells);

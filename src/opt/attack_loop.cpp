@@ -142,6 +142,7 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
       // Keep what the run has: stop at the last design whose simulation succeeded.
       if (evaluated.size() == 0) throw;
       result.stopped_early = e.what();
+      result.failed_theta = theta;
       theta = evaluated;
       break;
     }

@@ -4,37 +4,111 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <numeric>
 
 namespace rbaa {
 
+RigidClusters RigidClusters::whole(int num_vertices) {
+  RigidClusters c;
+  c.cluster.assign(num_vertices, 0);
+  c.count = num_vertices > 0 ? 1 : 0;
+  return c;
+}
+
+namespace {
+
+int find_root(std::vector<int>& parent, int v) {
+  while (parent[v] != v) {
+    parent[v] = parent[parent[v]];
+    v = parent[v];
+  }
+  return v;
+}
+
+}  // namespace
+
+RigidClusters stiff_clusters(const TetMesh& mesh, const MaterialField& materials, double ratio) {
+  const int nv = mesh.num_vertices(), nt = mesh.num_tets();
+  std::vector<double> stiffness(nt);
+  double largest = 0;
+  for (int e = 0; e < nt; ++e) {
+    const double a = materials.alpha[e];
+    stiffness[e] = a * a * a * materials.Y[e];
+    largest = std::max(largest, stiffness[e]);
+  }
+  std::vector<int> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<char> stiff_vertex(nv, 0);
+  for (int e = 0; e < nt; ++e) {
+    if (stiffness[e] < ratio * largest) continue;
+    const int r0 = find_root(parent, mesh.T(e, 0));
+    stiff_vertex[mesh.T(e, 0)] = 1;
+    for (int a = 1; a < 4; ++a) {
+      stiff_vertex[mesh.T(e, a)] = 1;
+      const int ra = find_root(parent, mesh.T(e, a));
+      if (ra != r0) parent[ra] = find_root(parent, r0);
+    }
+  }
+  // Number the clusters in order of their first vertex (deterministic).
+  RigidClusters c;
+  c.cluster.assign(nv, -1);
+  std::vector<int> id(nv, -1);
+  for (int v = 0; v < nv; ++v) {
+    if (!stiff_vertex[v]) continue;
+    const int r = find_root(parent, v);
+    if (id[r] < 0) id[r] = c.count++;
+    c.cluster[v] = id[r];
+  }
+  return c;
+}
+
 Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen::VectorXd& dq,
-                                          const Eigen::VectorXd& vertex_masses) {
+                                          const Eigen::VectorXd& vertex_masses,
+                                          const RigidClusters& clusters) {
   const Eigen::Index n = vertex_masses.size();
-  const double m = vertex_masses.sum();
-  Eigen::Vector3d c = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero();
+  const int k = clusters.count;
+  std::vector<double> mass(k, 0.0);
+  std::vector<Eigen::Vector3d> c(k, Eigen::Vector3d::Zero()), t(k, Eigen::Vector3d::Zero());
   for (Eigen::Index i = 0; i < n; ++i) {
-    c += vertex_masses[i] * x.segment<3>(3 * i);
-    t += vertex_masses[i] * dq.segment<3>(3 * i);
+    const int j = clusters.cluster[i];
+    if (j < 0) continue;
+    mass[j] += vertex_masses[i];
+    c[j] += vertex_masses[i] * x.segment<3>(3 * i);
+    t[j] += vertex_masses[i] * dq.segment<3>(3 * i);
   }
-  c /= m;
-  t /= m;
-  // Best-fit w: (sum m_i [r_i]x^T [r_i]x) w = sum m_i r_i x (dq_i - t)  (inertia tensor about c).
-  Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d L = Eigen::Vector3d::Zero();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = x.segment<3>(3 * i) - c;
-    I += vertex_masses[i] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-    L += vertex_masses[i] * r.cross(dq.segment<3>(3 * i) - t);
+  for (int j = 0; j < k; ++j) {
+    if (mass[j] > 0) {
+      c[j] /= mass[j];
+      t[j] /= mass[j];
+    }
   }
-  const Eigen::Vector3d w = I.ldlt().solve(L);
-  const double angle = w.norm();
-  if (!(angle > 1e-12) || !std::isfinite(angle)) return dq;
-  const Eigen::Matrix3d Rm = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() -
-                             Eigen::Matrix3d::Identity();
-  Eigen::VectorXd out(dq.size());
+  // Best-fit w per cluster: (sum m_i [r_i]x^T [r_i]x) w = sum m_i r_i x (dq_i - t)  (inertia
+  // tensor about the cluster's centre).
+  std::vector<Eigen::Matrix3d> I(k, Eigen::Matrix3d::Zero());
+  std::vector<Eigen::Vector3d> L(k, Eigen::Vector3d::Zero());
   for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = x.segment<3>(3 * i) - c;
-    out.segment<3>(3 * i) = dq.segment<3>(3 * i) + Rm * r - w.cross(r);
+    const int j = clusters.cluster[i];
+    if (j < 0) continue;
+    const Eigen::Vector3d r = x.segment<3>(3 * i) - c[j];
+    I[j] += vertex_masses[i] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+    L[j] += vertex_masses[i] * r.cross(dq.segment<3>(3 * i) - t[j]);
+  }
+  std::vector<Eigen::Vector3d> w(k);
+  std::vector<Eigen::Matrix3d> Rm(k);
+  std::vector<char> rotates(k, 0);
+  for (int j = 0; j < k; ++j) {
+    w[j] = I[j].ldlt().solve(L[j]);
+    const double angle = w[j].norm();
+    if (!(angle > 1e-12) || !std::isfinite(angle)) continue;
+    rotates[j] = 1;
+    Rm[j] = Eigen::AngleAxisd(angle, w[j] / angle).toRotationMatrix() - Eigen::Matrix3d::Identity();
+  }
+  Eigen::VectorXd out = dq;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const int j = clusters.cluster[i];
+    if (j < 0 || !rotates[j]) continue;
+    const Eigen::Vector3d r = x.segment<3>(3 * i) - c[j];
+    out.segment<3>(3 * i) += Rm[j] * r - w[j].cross(r);
   }
   return out;
 }

@@ -66,6 +66,7 @@ SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
   }
   run.settings = simulation_settings(scene, kappa);
   Simulator sim(placed_mesh, materials, run.settings, scene.source + " (materials)");
+  if (options.on_newton_iteration) sim.newton().set_iteration_callback(options.on_newton_iteration);
   run.vertex_masses = sim.vertex_masses();
   const Eigen::VectorXd q0 = sim.rest_positions();
   const Eigen::VectorXd v0 =

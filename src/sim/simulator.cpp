@@ -98,13 +98,14 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
       ContactSet(surface_vertices_, settings_.planes, settings_.d_hat), settings_.kappa);
   build_mass_forms(materials);
   newton_.set_step_transform([this](const Eigen::VectorXd& x, const Eigen::VectorXd& dq) {
-    return rigid_rotation_correction(x, dq, vertex_masses_);
+    return rigid_rotation_correction(x, dq, vertex_masses_, rigid_clusters_);
   });
 }
 
 void Simulator::build_mass_forms(const MaterialField& materials) {
   const Eigen::VectorXd density = materials.effective_density();
   vertex_masses_ = rbaa::vertex_masses(rest_, density);
+  rigid_clusters_ = stiff_clusters(rest_, materials);
   inertia_ = std::make_unique<InertiaForm>(mass_matrix(rest_, density, settings_.mass, *hessian_));
   gravity_ = std::make_unique<GravityForm>(vertex_masses_, settings_.gravity);
   const double w = integrator_.potential_weight();

@@ -101,8 +101,12 @@ TEST_F(AttackLoop, FailedSimulationStopsAtTheLastGoodDesign) {
   std::vector<Eigen::VectorXd> seen;
   int calls = 0, fail_at = 3;
   const TrajectoryTerm base = fake_term();
+  Eigen::VectorXd failed;
   const TrajectoryTerm failing = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* g) {
-    if (calls++ == fail_at) throw SolverError("step 5: Newton did not converge");
+    if (calls++ == fail_at) {
+      failed = theta;
+      throw SolverError("step 5: Newton did not converge");
+    }
     seen.push_back(theta);
     return base(theta, g);
   };
@@ -110,6 +114,8 @@ TEST_F(AttackLoop, FailedSimulationStopsAtTheLastGoodDesign) {
   EXPECT_NE(r.stopped_early.find("Newton"), std::string::npos);
   EXPECT_EQ(r.progress.size(), 3u);
   EXPECT_TRUE(r.theta == seen.back());  // the last design that was simulated
+  EXPECT_TRUE(r.failed_theta == failed);  // kept for reproducing the failure
+  EXPECT_FALSE(r.failed_theta == r.theta);
 
   // Resume: the checkpoint's next design fails at once; the run falls back to the one before.
   calls = 0;

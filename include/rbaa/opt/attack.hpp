@@ -37,6 +37,7 @@ struct AttackResult {
   double kappa = 0;
   Moments reference_moments;
   MaterialField continuous;      ///< after the Adam loop (full mesh)
+  MaterialField failed;          ///< the design whose simulation stopped the loop (if it stopped early)
   PostProcessResult post;        ///< rounded field, solid object, repair and re-fit reports
   Moments adversarial_moments;   ///< of the final solid object
   double max_normalized_residual = 0;  ///< final object vs reference
@@ -54,6 +55,7 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options);
 
 /// DIR/adversarial.msh (+ .vtu): the final solid object with element data Y, nu, rho, alpha,
 /// placed at the scene's initial pose; DIR/continuous.msh: the continuous field on the full mesh;
+/// DIR/failed_design.msh: the design whose simulation stopped the loop early (only then);
 /// DIR/report.json with the keys of SPEC section 8.
 void write_attack_outputs(const AttackResult& result, const Scene& scene, const std::string& dir);
 

@@ -87,6 +87,7 @@ struct AttackLoopResult {
   /// simulated: the loop then stops, theta is the last design whose simulation succeeded, and this
   /// holds the error. A failure before any design was simulated is thrown.
   std::string stopped_early;
+  Eigen::VectorXd failed_theta;  ///< the design whose simulation failed (empty unless stopped early)
   std::vector<ProgressRow> progress;
   int resumed_from = 0;   ///< iterations loaded from the checkpoint
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;

@@ -23,6 +23,8 @@ struct SimulationOptions {
   double kappa = 0;
   /// Called after every step (e.g. progress on stderr).
   Simulator::StepCallback on_step;
+  /// Called after every accepted Newton iteration (diagnosing a step that does not converge).
+  NewtonSolver::IterationCallback on_newton_iteration;
 };
 
 /// Per-position observables (index k = position q_k, k = 0 .. N).

@@ -20,6 +20,7 @@
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/sim/bdf.hpp"
+#include "rbaa/sim/rigid_rotation_correction.hpp"
 #include "rbaa/sim/contact_form.hpp"
 #include "rbaa/sim/elastic_form.hpp"
 #include "rbaa/sim/gravity_form.hpp"
@@ -104,6 +105,7 @@ class Simulator {
   SimulationSettings settings_;
   std::vector<int> surface_vertices_;
   Eigen::VectorXd vertex_masses_;
+  RigidClusters rigid_clusters_;  // per stiff cluster finite rotations of Newton steps
   std::unique_ptr<SparseHessian> hessian_;
   std::unique_ptr<InertiaForm> inertia_;
   std::unique_ptr<ElasticForm> elastic_;

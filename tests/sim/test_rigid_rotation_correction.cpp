@@ -1,0 +1,96 @@
+// The finite-rotation correction of Newton steps, per stiff cluster: clusters from the material
+// field, and a linearised rotation of each cluster turned into its exact finite rotation.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "rbaa/sim/rigid_rotation_correction.hpp"
+
+namespace rbaa {
+namespace {
+
+// Three tets: 0 and 2 stiff and disjoint, 1 soft and sharing a face with each.
+TetMesh three_tets() {
+  TetMesh m;
+  m.V.resize(8, 3);
+  m.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1,  //
+      3, 0, 0, 4, 0, 0, 3, 1, 0, 3, 0, 1;
+  m.T.resize(3, 4);
+  m.T << 0, 1, 2, 3,  //
+      1, 4, 2, 3,     //
+      4, 5, 6, 7;
+  return m;
+}
+
+MaterialField soft_middle() {
+  MaterialField f = MaterialField::uniform(3, 6.5e11, 0.3, 2500);
+  f.alpha[1] = 3e-3;  // alpha^3 Y = 1.8e4 Pa
+  return f;
+}
+
+double max_distance_change(const Eigen::VectorXd& x, const Eigen::VectorXd& y, int from, int to) {
+  double worst = 0;
+  for (int i = from; i < to; ++i) {
+    for (int j = i + 1; j < to; ++j) {
+      const double before = (x.segment<3>(3 * i) - x.segment<3>(3 * j)).norm();
+      const double after = (y.segment<3>(3 * i) - y.segment<3>(3 * j)).norm();
+      worst = std::max(worst, std::abs(after - before));
+    }
+  }
+  return worst;
+}
+
+TEST(RigidRotationCorrection, StiffElementsFormClustersThroughSharedVertices) {
+  const TetMesh m = three_tets();
+  const RigidClusters soft = stiff_clusters(m, soft_middle());
+  EXPECT_EQ(soft.count, 2);
+  EXPECT_EQ(soft.cluster, (std::vector<int>{0, 0, 0, 0, 1, 1, 1, 1}));
+  const RigidClusters uniform = stiff_clusters(m, MaterialField::uniform(3, 6.5e11, 0.3, 2500));
+  EXPECT_EQ(uniform.count, 1);
+  EXPECT_EQ(uniform.cluster, std::vector<int>(8, 0));
+  // A material 1000x softer than the stiffest still counts as stiff; 1e4x softer does not.
+  MaterialField mixed = MaterialField::uniform(3, 6.5e11, 0.3, 2500);
+  mixed.Y[1] = 6.5e8 * 1.01;
+  EXPECT_EQ(stiff_clusters(m, mixed).count, 1);
+  mixed.Y[1] = 6.5e7;
+  EXPECT_EQ(stiff_clusters(m, mixed).count, 2);
+}
+
+TEST(RigidRotationCorrection, EachClusterTurnsItsLinearisedRotationIntoAFiniteOne) {
+  const TetMesh m = three_tets();
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m.V.data(), 24);
+  const Eigen::VectorXd masses = Eigen::VectorXd::Constant(8, 0.5);
+  // Cluster 0 turns by w0 about its centre and moves by t0, cluster 1 turns by w1 (linearised).
+  const Eigen::Vector3d w0(0.0, 0.0, 0.2), w1(0.1, -0.15, 0.05), t0(0.01, 0.02, -0.03);
+  Eigen::VectorXd dq(24);
+  Eigen::Vector3d c0 = Eigen::Vector3d::Zero(), c1 = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 4; ++i) c0 += x.segment<3>(3 * i) / 4;
+  for (int i = 4; i < 8; ++i) c1 += x.segment<3>(3 * i) / 4;
+  for (int i = 0; i < 4; ++i) dq.segment<3>(3 * i) = t0 + w0.cross(x.segment<3>(3 * i) - c0);
+  for (int i = 4; i < 8; ++i) dq.segment<3>(3 * i) = w1.cross(x.segment<3>(3 * i) - c1);
+  const double linear_stretch = max_distance_change(x, x + dq, 0, 4);
+  EXPECT_GT(linear_stretch, 1e-2);  // the linearised rotation stretches by ~theta^2 / 2
+
+  const RigidClusters clusters = stiff_clusters(m, soft_middle());
+  const Eigen::VectorXd corrected = rigid_rotation_correction(x, dq, masses, clusters);
+  const Eigen::VectorXd y = x + corrected;
+  EXPECT_LT(max_distance_change(x, y, 0, 4), 1e-14);
+  EXPECT_LT(max_distance_change(x, y, 4, 8), 1e-14);
+  const Eigen::Matrix3d R0 = Eigen::AngleAxisd(w0.norm(), w0.normalized()).toRotationMatrix();
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d expected = c0 + t0 + R0 * (x.segment<3>(3 * i) - c0);
+    EXPECT_LT((y.segment<3>(3 * i) - expected).norm(), 1e-14);
+  }
+  // One cluster for the whole mesh: a single best-fit rotation, which cannot undo two different
+  // rotations; the tets stay stretched.
+  const Eigen::VectorXd whole = rigid_rotation_correction(x, dq, masses, RigidClusters::whole(8));
+  EXPECT_GT(max_distance_change(x, x + whole, 0, 4), 1e-3);
+  // Vertices outside every cluster keep their linear step.
+  RigidClusters none;
+  none.cluster.assign(8, -1);
+  EXPECT_TRUE(rigid_rotation_correction(x, dq, masses, none) == dq);
+}
+
+}  // namespace
+}  // namespace rbaa
