@@ -25,11 +25,25 @@ DECLARE_string(set);
 
 namespace {
 
+// Overrides that bound the work but change no result of a step that converges: a resumed run may
+// change them (an attack stopped by a Newton step that needed more iterations continues with
+// --set=newton.max_iterations=400).
+bool changes_results(const std::string& item) {
+  const std::string key = item.substr(0, item.find('='));
+  return key != "newton.max_iterations";
+}
+
 // FNV-1a over the config's bytes and the overrides: a checkpoint belongs to exactly these.
 std::string fingerprint(const std::string& config_path, const std::string& overrides) {
   std::ifstream in(config_path, std::ios::binary);
+  std::string kept;
+  std::stringstream items(overrides);
+  for (std::string item; std::getline(items, item, ';');) {
+    item.erase(0, item.find_first_not_of(" \t"));
+    if (!item.empty() && changes_results(item)) kept += (kept.empty() ? "" : ";") + item;
+  }
   std::stringstream text;
-  text << in.rdbuf() << "\n--set " << overrides;
+  text << in.rdbuf() << "\n--set " << kept;
   std::uint64_t h = 1469598103934665603ull;
   for (unsigned char c : text.str()) {
     h ^= c;
@@ -101,7 +115,8 @@ RBAA_REGISTER_VERB(attack, rbaa::cli::Verb{
     "rho and alpha (the config's attack.fields) with Adam, then rounds the occupancy, joins the\n"
     "occupied elements into one body, re-fits densities to the reference moments (1e-10) and\n"
     "re-simulates the final object. Progress goes to stderr and DIR/progress.csv; DIR/checkpoint.json\n"
-    "is written atomically after every iteration (--resume continues from it). Writes\n"
+    "is written atomically after every iteration (--resume continues from it; a resume may raise\n"
+    "--set=newton.max_iterations=N, no other setting). Writes\n"
     "DIR/adversarial.msh and .vtu (final object, element data Y, nu, rho, alpha), DIR/continuous.msh\n"
     "and DIR/report.json. A simulation that fails mid-run (Newton) stops the loop at the last design\n"
     "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate --materials).",
