@@ -36,6 +36,8 @@ RigidClusters stiff_clusters(const TetMesh& mesh, const MaterialField& materials
     stiffness[e] = a * a * a * materials.Y[e];
     largest = std::max(largest, stiffness[e]);
   }
+  // Union-find over shared vertices, not face adjacency (label_components): a vertex belongs to
+  // exactly one cluster, so two stiff regions touching at a vertex or an edge are one.
   std::vector<int> parent(nv);
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<char> stiff_vertex(nv, 0);

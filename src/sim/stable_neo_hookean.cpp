@@ -167,43 +167,43 @@ Eigensystem hessian_eigensystem(const Eigen::Matrix3d& F, double mu, double lamb
 double projected_hessian(const Eigen::Matrix3d& F, double mu, double lambda,
                          Eigen::Matrix<double, 9, 9>& H) {
   H = hessian(F, mu, lambda);
-  // One rotation-variant SVD gives the nine eigenvalues; most elements of a body at rest or in
-  // flight have none below round-off and keep the exact closed form, the others lose their
+  // One rotation-variant SVD gives the nine eigenvalues. Those above -1e-14 (mu + lambda) are
+  // round-off zeros (the rotation modes of a resting element) and stay; most elements of a body
+  // at rest or in flight have no other and keep the exact closed form. The others lose their
   // negative modes (at most five of nine), built only for those.
-  const double zero = -1e-14 * (mu + lambda);  // round-off zeros: rotations of a resting element
+  const double zero = -1e-14 * (mu + lambda);
   const RotationVariantSvd svd = rotation_variant_svd(F);
   const Eigen::Vector3d& sv = svd.s;
-  const double tv = lambda * (sv[0] * sv[1] * sv[2] - 1.0) - mu;
-  bool negative = mu - std::abs(tv * sv[0]) < zero;  // |s0| is the largest
-  const Eigen::Matrix3d Kv = scaling_block(sv, mu, lambda);
+  const double t = lambda * (sv[0] * sv[1] * sv[2] - 1.0) - mu;
+  const bool twist_or_flip = mu - std::abs(t * sv[0]) < zero;  // |s0| is the largest
+  const Eigen::Matrix3d K = scaling_block(sv, mu, lambda);
   // K - zero I positive definite (leading minors) <=> no scaling eigenvalue below zero.
-  const Eigen::Matrix3d Kz = Kv - zero * Eigen::Matrix3d::Identity();
-  negative |= !(Kz(0, 0) > 0 && Kz(0, 0) * Kz(1, 1) - Kz(0, 1) * Kz(0, 1) > 0 && Kz.determinant() > 0);
-  if (!negative) return 0.0;
-
+  const Eigen::Matrix3d Kz = K - zero * Eigen::Matrix3d::Identity();
+  const bool scaling = !(Kz(0, 0) > 0 && Kz(0, 0) * Kz(1, 1) - Kz(0, 1) * Kz(0, 1) > 0 &&
+                         Kz.determinant() > 0);
   double most_negative = 0.0;
   auto remove = [&](double value, const Eigen::Matrix3d& mode) {
     const Eigen::Map<const Eigen::Matrix<double, 9, 1>> v(mode.data());
     H.noalias() -= value * v * v.transpose();
     most_negative = std::min(most_negative, value);
   };
-  const double r = std::sqrt(0.5);
-  for (int p = 0; p < 3; ++p) {
-    const int i = kPairs[p][0], j = kPairs[p][1], k = kPairs[p][2];
-    const double twist = mu - tv * sv[k], flip = mu + tv * sv[k];
-    if (twist >= 0 && flip >= 0) continue;
-    const Eigen::Matrix3d a = svd.U.col(i) * svd.V.col(j).transpose();
-    const Eigen::Matrix3d b = svd.U.col(j) * svd.V.col(i).transpose();
-    if (twist < 0) remove(twist, r * (a + b));
-    if (flip < 0) remove(flip, r * (a - b));
+  if (twist_or_flip) {
+    const double r = std::sqrt(0.5);
+    for (int p = 0; p < 3; ++p) {
+      const int i = kPairs[p][0], j = kPairs[p][1], k = kPairs[p][2];
+      const double twist = mu - t * sv[k], flip = mu + t * sv[k];
+      if (twist >= zero && flip >= zero) continue;
+      const Eigen::Matrix3d a = svd.U.col(i) * svd.V.col(j).transpose();
+      const Eigen::Matrix3d b = svd.U.col(j) * svd.V.col(i).transpose();
+      if (twist < zero) remove(twist, r * (a + b));
+      if (flip < zero) remove(flip, r * (a - b));
+    }
   }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> scale_eig;
-  scale_eig.computeDirect(Kv, Eigen::EigenvaluesOnly);
-  if (scale_eig.eigenvalues()[0] < 0) {
-    scale_eig.compute(Kv);  // the iterative solver: accurate vectors for clustered values
-    for (int m = 0; m < 3 && scale_eig.eigenvalues()[m] < 0; ++m) {
-      remove(scale_eig.eigenvalues()[m],
-             svd.U * scale_eig.eigenvectors().col(m).asDiagonal() * svd.V.transpose());
+  if (scaling) {
+    // The iterative solver: accurate vectors for clustered values.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(K);
+    for (int m = 0; m < 3 && eig.eigenvalues()[m] < zero; ++m) {
+      remove(eig.eigenvalues()[m], svd.U * eig.eigenvectors().col(m).asDiagonal() * svd.V.transpose());
     }
   }
   return most_negative;

@@ -66,10 +66,10 @@ struct RotationVariantSvd {
 
 RotationVariantSvd rotation_variant_svd(const Eigen::Matrix3d& F);
 
-/// H = d2Psi/dF2 with its negative eigenvalues set to zero (the PSD projection), computed as the
-/// closed-form Hessian minus its negative modes: an element whose eigenvalues (which need only the
-/// singular values) are all above -1e-14 (mu + lambda) keeps the exact closed form, and only the
-/// others pay for the eigenvectors. Returns the most negative eigenvalue removed, 0 if none.
+/// H = d2Psi/dF2 with its eigenvalues below -1e-14 (mu + lambda) set to zero (the PSD projection
+/// up to round-off zeros), computed as the closed-form Hessian minus those modes: an element with
+/// none keeps the exact closed form, and only the others pay for eigenvectors. Returns the most
+/// negative eigenvalue removed, 0 if none.
 double projected_hessian(const Eigen::Matrix3d& F, double mu, double lambda,
                          Eigen::Matrix<double, 9, 9>& H);
 
