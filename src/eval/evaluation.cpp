@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ostream>
 #include <sstream>
 
 #include "rbaa/error.hpp"
@@ -157,6 +158,64 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
   return c;
 }
 
+namespace {
+
+// The stiff baseline at one time step, the rigid reference calibrated to it, and how far the two
+// stray apart.
+struct BaselineAtStep {
+  BaselineTrial trial;
+  RunTrace baseline, rigid_reference;
+  std::vector<RestitutionCalibration> calibrations;
+  RigidSettings rigid;
+  double rigid_internal_step = 0;
+};
+
+BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const MaterialField& materials,
+                            const SimulationOptions& sim_options, const RigidMassProperties& mass,
+                            const RigidShape& shape, RigidSettings rigid, double calibration_tolerance) {
+  BaselineAtStep out;
+  const auto start = std::chrono::steady_clock::now();
+  const SimulationRun baseline = run_simulation(scene, mesh, materials, sim_options);
+  out.baseline = trace_from_deformable("deformable reference", baseline);
+
+  rigid.margin = std::min(rigid.margin, scene.d_hat);
+  const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
+  out.rigid_internal_step = scene.time_step / substeps;
+  // Fit each plane's restitution to the baseline's first bounce off it, in the order of the
+  // bounces, so that the rigid reference starts every plane's contact as the baseline did.
+  rigid.plane_restitution.assign(scene.planes.size(), 1.0);
+  for (const Bounce& b : baseline.bounces) {
+    if (!b.complete) continue;
+    bool seen = false;
+    for (auto& c : out.calibrations) {
+      if (c.plane == b.plane) {
+        c.later_deformable_rebounds.push_back(b.restitution);
+        seen = true;
+      }
+    }
+    if (seen) continue;
+    RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration, b.plane,
+                                                     b.restitution, calibration_tolerance);
+    c.time = b.first_step * scene.time_step;
+    rigid.plane_restitution[b.plane] = c.restitution;
+    out.calibrations.push_back(c);
+  }
+  out.rigid = rigid;
+
+  const auto rigid_start = std::chrono::steady_clock::now();
+  out.rigid_reference = trace_from_rigid("rigid reference", simulate_rigid(mass, shape, scene, rigid, scene.duration),
+                                         seconds_since(rigid_start));
+  const RunComparison gap = compare_runs(out.baseline, out.rigid_reference);
+  out.trial.time_step = scene.time_step;
+  const auto& path = out.baseline.position;
+  for (size_t i = 1; i < path.size(); ++i) out.trial.path_length += (path[i] - path[i - 1]).norm();
+  out.trial.disagreement = out.trial.path_length > 0 ? gap.max_position_gap / out.trial.path_length : 0.0;
+  out.trial.seconds = seconds_since(start);
+  return out;
+}
+
+}  // namespace
+
 Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
                     const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options) {
@@ -164,22 +223,30 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   check_same_surface(reference_mesh, adversarial_mesh, "adversarial mesh");
   Evaluation ev;
   Scene scene = scene_in;
-  ev.duration = options.duration > 0 ? options.duration : 4.0 * scene_in.duration;
+  ev.attack_time_step = scene_in.time_step;
+  // An explicit step (the command line's, else the config's) is used as it is; "auto" searches
+  // from the attack's step down by factors of 4.
+  const bool search = options.time_step > 0 ? false : options.search_time_step || scene_in.evaluation_search_step;
+  const double first_step = options.time_step > 0                  ? options.time_step
+                            : search                                ? scene_in.time_step
+                            : scene_in.evaluation_time_step > 0     ? scene_in.evaluation_time_step
+                                                                    : scene_in.time_step;
+  ev.duration = options.duration > 0 ? options.duration
+                : scene_in.evaluation_duration > 0 ? scene_in.evaluation_duration
+                                                   : 4.0 * scene_in.duration;
+  if (ev.duration < first_step) {
+    std::ostringstream msg;
+    msg << "evaluation: duration " << ev.duration << " s is shorter than one time step (" << first_step << " s)";
+    throw InputError(msg.str());
+  }
   scene.duration = ev.duration;
+  ev.baseline_tolerance = scene_in.evaluation_baseline_tolerance;
 
   const MaterialField reference_materials = MaterialField::uniform(
       reference_mesh.num_tets(), scene.reference_Y, scene.reference_nu, scene.reference_rho, 1.0);
   ev.reference_moments = compute_moments(reference_mesh, reference_materials.effective_density());
   ev.adversarial_moments = compute_moments(adversarial_mesh, adversarial_materials.effective_density());
-  ev.kappa = scene_barrier_stiffness(scene_in, reference_mesh);
-
-  // Deformable runs with the reference scene's frozen kappa.
-  SimulationOptions sim_options;
-  sim_options.kappa = ev.kappa;
-  const SimulationRun baseline = run_simulation(scene, reference_mesh, reference_materials, sim_options);
-  ev.deformable_reference = trace_from_deformable("deformable reference", baseline);
-  const SimulationRun adversarial = run_simulation(scene, adversarial_mesh, adversarial_materials, sim_options);
-  ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial);
+  ev.kappa = scene_barrier_stiffness(scene_in, reference_mesh);  // independent of h (SPEC section 2)
 
   // Rigid twins, each from its own mesh and materials.
   const RigidMassProperties ref_mass = rigid_mass_properties(ev.reference_moments);
@@ -190,41 +257,46 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   if (ref_shape.kind == RigidShapeKind::kConvexHull) {
     ev.rigid_shape += " (exact against planes: a plane first touches a body at a hull vertex)";
   }
-  RigidSettings rigid = options.rigid;
-  rigid.margin = std::min(rigid.margin, scene.d_hat);
-  const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
-  ev.rigid_internal_step = scene.time_step / substeps;
 
-  // Fit each plane's restitution to the baseline's first bounce off it, in the order of the
-  // bounces, so that the rigid reference starts every plane's contact as the baseline did.
-  rigid.plane_restitution.assign(scene.planes.size(), 1.0);
-  for (const Bounce& b : baseline.bounces) {
-    if (!b.complete) continue;
-    bool seen = false;
-    for (auto& c : ev.calibrations) {
-      if (c.plane == b.plane) {
-        c.later_deformable_rebounds.push_back(b.restitution);
-        seen = true;
-      }
+  // Deformable runs with the reference scene's frozen kappa. The baseline decides the step: the
+  // comparison means something only where the stiff uniform object and its calibrated rigid twin
+  // agree, so a search refines until they stray by at most the tolerance over the baseline's path
+  // (or the refinements run out: then the finest step is used and the report says so).
+  SimulationOptions sim_options;
+  sim_options.kappa = ev.kappa;
+  const int refinements = search ? scene_in.evaluation_max_refinements : 0;
+  BaselineAtStep chosen;
+  for (int k = 0; k <= refinements; ++k) {
+    scene.time_step = first_step / std::pow(4.0, k);
+    if (search && options.progress) {
+      *options.progress << "rbaa evaluate: baseline at step " << scene.time_step << " s ..." << std::flush;
     }
-    if (seen) continue;
-    RestitutionCalibration c = calibrate_restitution(ref_mass, ref_shape, scene, rigid, ev.duration, b.plane,
-                                                     b.restitution, options.calibration_tolerance);
-    c.time = b.first_step * scene.time_step;
-    rigid.plane_restitution[b.plane] = c.restitution;
-    ev.calibrations.push_back(c);
+    chosen = run_baseline(scene, reference_mesh, reference_materials, sim_options, ref_mass, ref_shape,
+                          options.rigid, options.calibration_tolerance);
+    ev.step_search.push_back(chosen.trial);
+    if (search && options.progress) {
+      *options.progress << " strays " << 100 * chosen.trial.disagreement << " % of its path from the rigid reference\n";
+    }
+    if (chosen.trial.disagreement <= ev.baseline_tolerance) break;
   }
+  ev.time_step = scene.time_step;
+  ev.deformable_reference = std::move(chosen.baseline);
+  ev.rigid_reference = std::move(chosen.rigid_reference);
+  ev.calibrations = std::move(chosen.calibrations);
+  ev.rigid_internal_step = chosen.rigid_internal_step;
+  ev.baseline_path_length = chosen.trial.path_length;
+  ev.baseline_disagreement = chosen.trial.disagreement;
 
-  auto start = std::chrono::steady_clock::now();
-  const auto rigid_ref = simulate_rigid(ref_mass, ref_shape, scene, rigid, ev.duration);
-  ev.rigid_reference = trace_from_rigid("rigid reference", rigid_ref, seconds_since(start));
-  start = std::chrono::steady_clock::now();
-  const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, rigid, ev.duration);
+  const SimulationRun adversarial = run_simulation(scene, adversarial_mesh, adversarial_materials, sim_options);
+  ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial);
+  const auto start = std::chrono::steady_clock::now();
+  const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration);
   ev.rigid_adversarial = trace_from_rigid("rigid adversarial", rigid_adv, seconds_since(start));
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);
   ev.deformable_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_adversarial);
   ev.deformable_vs_rigid = compare_runs(ev.deformable_reference, ev.rigid_reference);
+  ev.adversarial_vs_rigid = compare_runs(ev.deformable_adversarial, ev.rigid_reference);
   ev.attack_advantage = ev.deformable_vs_rigid.position_gap > 0
                             ? ev.deformable_vs_deformable.position_gap / ev.deformable_vs_rigid.position_gap
                             : INFINITY;

@@ -82,10 +82,16 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                            {"restitution", c.restitution}, {"iterations", c.iterations},
                            {"deformable_later_rebounds", c.later_deformable_rebounds}});
   }
+  nlohmann::json search = nlohmann::json::array();
+  for (const auto& t : ev.step_search) {
+    search.push_back({{"time_step_s", t.time_step}, {"baseline_path_length_m", t.path_length},
+                      {"baseline_disagreement", t.disagreement}, {"seconds", t.seconds}});
+  }
   nlohmann::json report = {
       {"scene", scene.name},
       {"duration_s", ev.duration},
-      {"time_step_s", scene.time_step},
+      {"time_step_s", ev.time_step},
+      {"attack_time_step_s", ev.attack_time_step},
       {"kappa", ev.kappa},
       {"moments", {{"reference", moments_json(ev.reference_moments)},
                    {"adversarial", moments_json(ev.adversarial_moments)}}},
@@ -96,7 +102,12 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"rigid_vs_rigid", comparison_json(ev.rigid_vs_rigid)},
       {"deformable_vs_deformable", comparison_json(ev.deformable_vs_deformable)},
       {"deformable_vs_rigid", comparison_json(ev.deformable_vs_rigid)},
+      {"adversarial_vs_rigid", comparison_json(ev.adversarial_vs_rigid)},
       {"attack_advantage", ev.attack_advantage},
+      {"baseline_path_length_m", ev.baseline_path_length},
+      {"baseline_disagreement", ev.baseline_disagreement},
+      {"baseline_tolerance", ev.baseline_tolerance},
+      {"time_steps_tried", search},
       {"rigid_identical", ev.rigid_vs_rigid.max_position_gap <= 1e-9},
       {"timing_s", timing},
       {"files", files},
@@ -105,7 +116,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
 
   write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
     out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
-        << "Duration " << fmt(ev.duration) << " s, step " << fmt(scene.time_step) << " s. Rigid: Bullet ("
+        << "Duration " << fmt(ev.duration) << " s, step " << fmt(ev.time_step) << " s (attack built at "
+        << fmt(ev.attack_time_step) << " s). Rigid: Bullet ("
         << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s.\n\n"
         << "Restitution per plane, fitted to the deformable baseline's first rebound off it:\n\n"
         << "| plane | first bounce (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
@@ -119,12 +131,27 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "\n"
         << "| pair | centre-of-mass gap at T (m) | max gap (m) | velocity angle (deg) | orientation gap (deg) |\n"
         << "|---|---|---|---|---|\n";
-    for (const RunComparison* c : {&ev.rigid_vs_rigid, &ev.deformable_vs_deformable, &ev.deformable_vs_rigid}) {
+    for (const RunComparison* c : {&ev.rigid_vs_rigid, &ev.deformable_vs_deformable, &ev.deformable_vs_rigid,
+                                   &ev.adversarial_vs_rigid}) {
       out << "| " << c->a << " vs " << c->b << " | " << fmt(c->position_gap) << " | " << fmt(c->max_position_gap)
           << " | " << fmt(c->velocity_angle_deg) << " | " << fmt(c->orientation_gap_deg) << " |\n";
     }
     out << "\nThe adversarial object's deformable gap is " << fmt(ev.attack_advantage, 3)
         << " x the gap between the stiff deformable baseline and the rigid reference.\n";
+    out << "The baseline strays from the rigid reference by at most " << fmt(100 * ev.baseline_disagreement, 3)
+        << " % of its path (" << fmt(ev.baseline_path_length) << " m)"
+        << (ev.baseline_disagreement > ev.baseline_tolerance
+                ? ": above the tolerance of " + fmt(100 * ev.baseline_tolerance, 3) +
+                      " %, the comparison measures the time step more than the object; try a smaller "
+                      "--time_step or --time_step=auto.\n"
+                : ".\n");
+    if (ev.step_search.size() > 1) {
+      out << "\nSteps tried for the baseline (the last is used):\n\n| step (s) | strays (% of path) | wall time (s) |\n"
+          << "|---|---|---|\n";
+      for (const auto& t : ev.step_search) {
+        out << "| " << fmt(t.time_step) << " | " << fmt(100 * t.disagreement, 3) << " | " << fmt(t.seconds) << " |\n";
+      }
+    }
     out << "As rigid bodies the two objects are " << (ev.rigid_vs_rigid.max_position_gap <= 1e-9 ? "" : "NOT ")
         << "identical (max gap " << fmt(ev.rigid_vs_rigid.max_position_gap) << " m, bar 1e-9 m).\n\n";
     out << "| run | wall time (s) | CSV |\n|---|---|---|\n";

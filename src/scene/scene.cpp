@@ -269,6 +269,22 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     t.finish();
   }
   {
+    MapReader e(top.child("evaluation"), source, "evaluation");
+    if (e.has("time_step") && e.child("time_step").IsScalar() && e.child("time_step").Scalar() == "auto") {
+      s.evaluation_search_step = true;
+    } else {
+      s.evaluation_time_step = e.number("time_step", s.evaluation_time_step, 0.0, 1.0, true);
+    }
+    s.evaluation_baseline_tolerance = e.number("baseline_tolerance", s.evaluation_baseline_tolerance, 0.0, 1.0, true);
+    s.evaluation_max_refinements = e.integer("max_refinements", s.evaluation_max_refinements, 0, 10);
+    s.evaluation_duration = e.number("duration", s.evaluation_duration, 0.0, 1e6, true);
+    const double step = s.evaluation_time_step > 0 ? s.evaluation_time_step : s.time_step;
+    if (s.evaluation_duration > 0 && s.evaluation_duration < step) {
+      e.fail(top.child("evaluation"), "duration", "shorter than one time step");
+    }
+    e.finish();
+  }
+  {
     MapReader c(top.child("contact"), source, "contact");
     s.d_hat = c.number("d_hat", s.d_hat, 0.0, 1.0, true);
     if (c.has("kappa")) {

@@ -79,6 +79,11 @@ TEST_F(CliSimulate, EvaluateRejectsMissingAndMismatchedObjects) {
                        rbaa::material_element_data(rbaa::MaterialField::uniform(cube.num_tets(), 1e10, 0.3, 2500)));
   expect_failure("evaluate --config=" + config + " --adversarial=" + path("cube_adv.msh") + " --out=" + path("e"),
                  "reference object");
+  for (const char* step : {"fast", "-0.01", "0"}) {
+    expect_failure("evaluate --config=" + config + " --adversarial=" + path("cube_adv.msh") + " --out=" + path("e") +
+                       " --time_step=" + step,
+                   std::string("--time_step=") + step);
+  }
 }
 
 }  // namespace

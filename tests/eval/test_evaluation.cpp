@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -73,6 +74,64 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(Evaluation, RunsAtTheConfigsEvaluationStepAndTheFlagOverridesIt) {
+  Scene scene = ball_scene();
+  scene.evaluation_time_step = 0.005;
+  scene.evaluation_duration = 0.1;
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField adv = adversarial_field(mesh, scene);
+  const Evaluation ev = evaluate(scene, mesh, mesh, adv);
+  EXPECT_DOUBLE_EQ(ev.time_step, 0.005);
+  EXPECT_DOUBLE_EQ(ev.attack_time_step, 0.01);
+  EXPECT_DOUBLE_EQ(ev.duration, 0.1);
+  for (const RunTrace* t : {&ev.rigid_reference, &ev.deformable_reference, &ev.deformable_adversarial}) {
+    ASSERT_EQ(t->time.size(), 21u) << t->name;
+    EXPECT_NEAR(t->time[1], 0.005, 1e-15) << t->name;
+  }
+  // The baseline's path: 0.1 s at about 2 m/s; its disagreement with the rigid reference is a
+  // fraction of it, and the adversarial-vs-rigid comparison is filled in.
+  EXPECT_GT(ev.baseline_path_length, 0.15);
+  EXPECT_LT(ev.baseline_path_length, 0.25);
+  EXPECT_NEAR(ev.baseline_disagreement, ev.deformable_vs_rigid.max_position_gap / ev.baseline_path_length, 1e-15);
+  EXPECT_EQ(ev.adversarial_vs_rigid.a, "deformable adversarial");
+  EXPECT_EQ(ev.adversarial_vs_rigid.b, "rigid reference");
+
+  EvaluationOptions options;
+  options.time_step = 0.02;  // the command line's --time_step wins over the config
+  const Evaluation coarse = evaluate(scene, mesh, mesh, adv, options);
+  EXPECT_DOUBLE_EQ(coarse.time_step, 0.02);
+  EXPECT_EQ(coarse.deformable_reference.time.size(), 6u);
+  options.duration = 0.01;  // shorter than one step
+  EXPECT_THROW(evaluate(scene, mesh, mesh, adv, options), InputError);
+}
+
+TEST(Evaluation, StepSearchRefinesUntilTheBaselineAgreesWithItsRigidTwin) {
+  Scene scene = ball_scene();
+  scene.time_step = 0.02;  // coarse: the bounce takes a whole step and the baseline lags its twin
+  scene.duration = 0.05;
+  scene.evaluation_duration = 0.16;
+  scene.evaluation_search_step = true;
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField adv = adversarial_field(mesh, scene);
+  const Evaluation ev = evaluate(scene, mesh, mesh, adv);
+  ASSERT_GE(ev.step_search.size(), 2u);
+  for (size_t k = 0; k < ev.step_search.size(); ++k) {
+    EXPECT_DOUBLE_EQ(ev.step_search[k].time_step, 0.02 / std::pow(4.0, k));
+  }
+  // It stops at the first step within the tolerance (or after the last refinement).
+  for (size_t k = 0; k + 1 < ev.step_search.size(); ++k) EXPECT_GT(ev.step_search[k].disagreement, 0.01);
+  EXPECT_TRUE(ev.step_search.back().disagreement <= 0.01 ||
+              static_cast<int>(ev.step_search.size()) == scene.evaluation_max_refinements + 1);
+  EXPECT_LT(ev.step_search.back().disagreement, ev.step_search.front().disagreement);
+  EXPECT_DOUBLE_EQ(ev.time_step, ev.step_search.back().time_step);
+  EXPECT_DOUBLE_EQ(ev.baseline_disagreement, ev.step_search.back().disagreement);
+  EXPECT_NEAR(ev.deformable_adversarial.time[1], ev.time_step, 1e-15);
+
+  EvaluationOptions fixed;
+  fixed.time_step = 0.01;  // an explicit step turns the search off
+  EXPECT_EQ(evaluate(scene, mesh, mesh, adv, fixed).step_search.size(), 1u);
 }
 
 TEST(Evaluation, MismatchedObjectsAreRejected) {

@@ -85,12 +85,26 @@ TEST(Scene, StartingInContactIsAnError) {
 
 const char* kMinimal = "mesh: {shape: cube}\n";
 
+TEST(Scene, EvaluationSettingsDefaultToTheAttacksAndCanBeSet) {
+  const Scene plain = parse_scene(kMinimal, "test.yaml", "");
+  EXPECT_EQ(plain.evaluation_time_step, 0.0);  // evaluate uses time.step
+  EXPECT_EQ(plain.evaluation_duration, 0.0);   // evaluate uses 4 x time.duration
+  const Scene set = parse_scene(std::string(kMinimal) + "evaluation: {time_step: 0.001, duration: 2}\n",
+                                "test.yaml", "", {"evaluation.duration=3"});
+  EXPECT_DOUBLE_EQ(set.evaluation_time_step, 0.001);
+  EXPECT_DOUBLE_EQ(set.evaluation_duration, 3.0);
+}
+
 TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error(std::string(kMinimal) + "tiem:\n  step: 0.01\n", {"test.yaml:2", "'tiem'", "unknown key"});
   expect_error(std::string(kMinimal) + "time:\n  step: fast\n", {"test.yaml:3", "time.step", "expected a number"});
   expect_error(std::string(kMinimal) + "time:\n  step: .nan\n", {"time.step", "not finite"});
   expect_error(std::string(kMinimal) + "time:\n  step: -0.01\n", {"time.step", "outside"});
   expect_error(std::string(kMinimal) + "time: {step: 0.1, duration: 0.01}\n", {"time.duration", "shorter"});
+  expect_error(std::string(kMinimal) + "evaluation: {time_step: 0}\n", {"evaluation.time_step", "outside"});
+  expect_error(std::string(kMinimal) + "evaluation: {time_step: 0.01, duration: 0.001}\n",
+               {"evaluation.duration", "shorter"});
+  expect_error(std::string(kMinimal) + "evaluation: {step: 0.01}\n", {"'evaluation.step'", "unknown key"});
   expect_error(std::string(kMinimal) + "material_bounds: {Y: [1.0e9, 1.0e11]}\n",
                {"material_bounds.Y", "outside [2.5e+09"});
   expect_error(std::string(kMinimal) + "material_bounds: {nu: [0.3, 0.25]}\n", {"material_bounds.nu", "below max"});

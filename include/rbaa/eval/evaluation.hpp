@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -48,14 +49,32 @@ struct RestitutionCalibration {
   std::vector<double> later_deformable_rebounds;  ///< baseline's later bounces off the plane
 };
 
+/// One step tried for the stiff baseline: how far it strays from its calibrated rigid twin.
+struct BaselineTrial {
+  double time_step = 0;      ///< s
+  double path_length = 0;    ///< of the baseline's centre of mass (m)
+  double disagreement = 0;   ///< largest baseline-vs-rigid gap / path_length
+  double seconds = 0;        ///< wall time of the baseline, calibration and rigid runs
+};
+
 struct EvaluationOptions {
-  double duration = 0;          ///< seconds; <= 0: 4 x the scene's (attack) duration
+  double duration = 0;   ///< s; <= 0: the scene's evaluation.duration, else 4 x the attack's
+  /// s; > 0 fixes the step. Otherwise the scene's evaluation settings decide: a fixed
+  /// evaluation.time_step, the attack's step, or (search_time_step or evaluation.time_step: auto)
+  /// the attack's step refined by 4 until the baseline agrees with the rigid reference.
+  double time_step = 0;
+  bool search_time_step = false;
+  std::ostream* progress = nullptr;  ///< one line per step tried by the search
   RigidSettings rigid;          ///< plane restitutions are overwritten by the calibration
   double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
 };
 
 struct Evaluation {
   double duration = 0;
+  double time_step = 0;         ///< of the deformable runs and of the traces' samples (s)
+  std::vector<BaselineTrial> step_search;  ///< every step tried, coarsest first; the last is used
+  double baseline_tolerance = 0;           ///< the search's bar on BaselineTrial::disagreement
+  double attack_time_step = 0;  ///< the scene's own step, at which attacks are built (s)
   double kappa = 0;
   Moments reference_moments, adversarial_moments;
   std::string rigid_shape;        ///< which Bullet collision shape, and why
@@ -66,7 +85,15 @@ struct Evaluation {
   std::vector<RestitutionCalibration> calibrations;
   RunTrace rigid_reference, rigid_adversarial, deformable_reference, deformable_adversarial;
   RunComparison rigid_vs_rigid, deformable_vs_deformable, deformable_vs_rigid;
+  /// The deformable adversarial object against the rigid reference: what a rigid-body simulator
+  /// predicts for the object against what happens to it.
+  RunComparison adversarial_vs_rigid;
   double attack_advantage = 0;  ///< deformable_vs_deformable gap / deformable_vs_rigid gap
+  /// How well the stiff baseline agrees with the rigid reference: deformable_vs_rigid's largest
+  /// gap over the baseline's path length. Above ~1 % the comparison measures the time
+  /// discretisation more than the object; a smaller evaluation step helps (README).
+  double baseline_path_length = 0;  ///< m
+  double baseline_disagreement = 0;
 };
 
 /// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's

@@ -62,6 +62,19 @@ struct Scene {
   Integrator integrator = Integrator::kBdf2;
   MassModel mass = MassModel::kConsistent;
 
+  // The demonstration (`rbaa evaluate`): its own step and duration, because an attack is built at
+  // a step chosen for speed while a demonstration must be accurate enough that the stiff uniform
+  // baseline agrees with the rigid reference (README, "Evaluating an attack"). 0: the attack's
+  // step; 4 x the attack's duration.
+  double evaluation_time_step = 0;  ///< s
+  double evaluation_duration = 0;   ///< s
+  /// evaluation.time_step: auto. Refine the attack's step by factors of 4 (at most
+  /// evaluation_max_refinements times) until the baseline strays from its calibrated rigid twin
+  /// by at most evaluation_baseline_tolerance of its path.
+  bool evaluation_search_step = false;
+  double evaluation_baseline_tolerance = 0.01;
+  int evaluation_max_refinements = 3;
+
   // Contact (IPC log barrier on unsigned distances).
   double d_hat = 1e-3;  ///< activation distance (m)
   double kappa = 0.0;   ///< barrier stiffness (J per unit of b); 0 = choose by the energy rule
