@@ -270,11 +270,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
   }
   {
     MapReader e(top.child("evaluation"), source, "evaluation");
-    if (e.has("time_step") && e.child("time_step").IsScalar() && e.child("time_step").Scalar() == "auto") {
-      s.evaluation_search_step = true;
-    } else {
-      s.evaluation_time_step = e.number("time_step", s.evaluation_time_step, 0.0, 1.0, true);
-    }
+    const bool auto_step = !e.has("time_step") || (e.child("time_step").IsScalar() && e.child("time_step").Scalar() == "auto");
+    s.evaluation_search_step = auto_step;
+    if (!auto_step) s.evaluation_time_step = e.number("time_step", s.evaluation_time_step, 0.0, 1.0, true);
     s.evaluation_baseline_tolerance = e.number("baseline_tolerance", s.evaluation_baseline_tolerance, 0.0, 1.0, true);
     s.evaluation_max_refinements = e.integer("max_refinements", s.evaluation_max_refinements, 0, 10);
     s.evaluation_duration = e.number("duration", s.evaluation_duration, 0.0, 1e6, true);

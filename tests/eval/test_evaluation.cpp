@@ -45,6 +45,7 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   const MaterialField adv = adversarial_field(mesh, scene);
   EvaluationOptions options;
   options.duration = 0.2;
+  options.time_step = scene.time_step;
   const Evaluation ev = evaluate(scene, mesh, mesh, adv, options);
 
   // Calibration: the rigid reference reproduces the baseline's first rebound within 1 %.
@@ -78,6 +79,7 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
 
 TEST(Evaluation, RunsAtTheConfigsEvaluationStepAndTheFlagOverridesIt) {
   Scene scene = ball_scene();
+  scene.evaluation_search_step = false;
   scene.evaluation_time_step = 0.005;
   scene.evaluation_duration = 0.1;
   const TetMesh mesh = make_scene_mesh(scene);
@@ -112,7 +114,7 @@ TEST(Evaluation, StepSearchRefinesUntilTheBaselineAgreesWithItsRigidTwin) {
   scene.time_step = 0.02;  // coarse: the bounce takes a whole step and the baseline lags its twin
   scene.duration = 0.05;
   scene.evaluation_duration = 0.16;
-  scene.evaluation_search_step = true;
+  scene.evaluation_baseline_tolerance = 0.01;
   const TetMesh mesh = make_scene_mesh(scene);
   const MaterialField adv = adversarial_field(mesh, scene);
   const Evaluation ev = evaluate(scene, mesh, mesh, adv);

@@ -87,12 +87,18 @@ const char* kMinimal = "mesh: {shape: cube}\n";
 
 TEST(Scene, EvaluationSettingsDefaultToTheAttacksAndCanBeSet) {
   const Scene plain = parse_scene(kMinimal, "test.yaml", "");
-  EXPECT_EQ(plain.evaluation_time_step, 0.0);  // evaluate uses time.step
-  EXPECT_EQ(plain.evaluation_duration, 0.0);   // evaluate uses 4 x time.duration
+  EXPECT_TRUE(plain.evaluation_search_step);  // refine the attack's step until the baseline agrees
+  EXPECT_EQ(plain.evaluation_duration, 0.0);  // evaluate uses 4 x time.duration
+  EXPECT_DOUBLE_EQ(plain.evaluation_baseline_tolerance, 0.005);
   const Scene set = parse_scene(std::string(kMinimal) + "evaluation: {time_step: 0.001, duration: 2}\n",
                                 "test.yaml", "", {"evaluation.duration=3"});
+  EXPECT_FALSE(set.evaluation_search_step);
   EXPECT_DOUBLE_EQ(set.evaluation_time_step, 0.001);
   EXPECT_DOUBLE_EQ(set.evaluation_duration, 3.0);
+  const Scene searched = parse_scene(std::string(kMinimal) + "evaluation: {time_step: auto, max_refinements: 1}\n",
+                                     "test.yaml", "");
+  EXPECT_TRUE(searched.evaluation_search_step);
+  EXPECT_EQ(searched.evaluation_max_refinements, 1);
 }
 
 TEST(Scene, BadInputNamesFileLineAndKey) {

@@ -64,15 +64,14 @@ struct Scene {
 
   // The demonstration (`rbaa evaluate`): its own step and duration, because an attack is built at
   // a step chosen for speed while a demonstration must be accurate enough that the stiff uniform
-  // baseline agrees with the rigid reference (README, "Evaluating an attack"). 0: the attack's
-  // step; 4 x the attack's duration.
-  double evaluation_time_step = 0;  ///< s
-  double evaluation_duration = 0;   ///< s
-  /// evaluation.time_step: auto. Refine the attack's step by factors of 4 (at most
-  /// evaluation_max_refinements times) until the baseline strays from its calibrated rigid twin
-  /// by at most evaluation_baseline_tolerance of its path.
-  bool evaluation_search_step = false;
-  double evaluation_baseline_tolerance = 0.01;
+  // baseline agrees with its rigid twin (README, "Evaluating an attack").
+  /// evaluation.time_step: auto (the default) refines the attack's step by factors of 4, at most
+  /// evaluation_max_refinements times, until the baseline strays from its calibrated rigid twin
+  /// by at most evaluation_baseline_tolerance of its path; a number fixes the step.
+  bool evaluation_search_step = true;
+  double evaluation_time_step = 0;  ///< s, when not searched; 0: the attack's step
+  double evaluation_duration = 0;   ///< s; 0: 4 x the attack's duration
+  double evaluation_baseline_tolerance = 0.005;
   int evaluation_max_refinements = 3;
 
   // Contact (IPC log barrier on unsigned distances).
