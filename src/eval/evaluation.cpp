@@ -289,6 +289,14 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
 
   const SimulationRun adversarial = run_simulation(scene, adversarial_mesh, adversarial_materials, sim_options);
   ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial);
+  if (options.soft_control) {
+    ev.soft_Y = scene_in.Y_range.lo;
+    const MaterialField soft = MaterialField::uniform(reference_mesh.num_tets(), ev.soft_Y, scene.reference_nu,
+                                                      scene.reference_rho, 1.0);
+    ev.deformable_soft = trace_from_deformable("deformable soft uniform",
+                                               run_simulation(scene, reference_mesh, soft, sim_options));
+    ev.soft_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_soft);
+  }
   const auto start = std::chrono::steady_clock::now();
   const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration);
   ev.rigid_adversarial = trace_from_rigid("rigid adversarial", rigid_adv, seconds_since(start));

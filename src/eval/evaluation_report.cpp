@@ -59,8 +59,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": cannot create output folder (" + ec.message() + ")");
 
-  const RunTrace* runs[] = {&ev.rigid_reference, &ev.rigid_adversarial, &ev.deformable_reference,
-                            &ev.deformable_adversarial};
+  std::vector<const RunTrace*> runs = {&ev.rigid_reference, &ev.rigid_adversarial, &ev.deformable_reference,
+                                       &ev.deformable_adversarial};
+  if (!ev.deformable_soft.time.empty()) runs.push_back(&ev.deformable_soft);
   nlohmann::json timing, files;
   for (const RunTrace* t : runs) {
     write_trace_csv(dir + "/" + file_name(*t), *t);
@@ -103,6 +104,12 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"deformable_vs_deformable", comparison_json(ev.deformable_vs_deformable)},
       {"deformable_vs_rigid", comparison_json(ev.deformable_vs_rigid)},
       {"adversarial_vs_rigid", comparison_json(ev.adversarial_vs_rigid)},
+      {"soft_control", ev.deformable_soft.time.empty()
+                           ? nlohmann::json(nullptr)
+                           : nlohmann::json{{"Y", ev.soft_Y}, {"vs_baseline", comparison_json(ev.soft_vs_deformable)},
+                                            {"attack_over_softness", ev.soft_vs_deformable.position_gap > 0
+                                                 ? ev.deformable_vs_deformable.position_gap / ev.soft_vs_deformable.position_gap
+                                                 : INFINITY}}},
       {"attack_advantage", ev.attack_advantage},
       {"baseline_path_length_m", ev.baseline_path_length},
       {"baseline_disagreement", ev.baseline_disagreement},
@@ -131,8 +138,10 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "\n"
         << "| pair | centre-of-mass gap at T (m) | max gap (m) | velocity angle (deg) | orientation gap (deg) |\n"
         << "|---|---|---|---|---|\n";
-    for (const RunComparison* c : {&ev.rigid_vs_rigid, &ev.deformable_vs_deformable, &ev.deformable_vs_rigid,
-                                   &ev.adversarial_vs_rigid}) {
+    std::vector<const RunComparison*> pairs = {&ev.rigid_vs_rigid, &ev.deformable_vs_deformable,
+                                               &ev.deformable_vs_rigid, &ev.adversarial_vs_rigid};
+    if (!ev.deformable_soft.time.empty()) pairs.push_back(&ev.soft_vs_deformable);
+    for (const RunComparison* c : pairs) {
       out << "| " << c->a << " vs " << c->b << " | " << fmt(c->position_gap) << " | " << fmt(c->max_position_gap)
           << " | " << fmt(c->velocity_angle_deg) << " | " << fmt(c->orientation_gap_deg) << " |\n";
     }
@@ -160,6 +169,15 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       for (const auto& t : ev.step_search) {
         out << "| " << fmt(t.time_step) << " | " << fmt(100 * t.disagreement, 3) << " | " << fmt(t.seconds) << " |\n";
       }
+    }
+    if (!ev.deformable_soft.time.empty()) {
+      out << "Control: the reference shape in uniform material at the softest allowed Y = " << fmt(ev.soft_Y)
+          << " Pa (same moments) ends " << fmt(ev.soft_vs_deformable.position_gap) << " m and "
+          << fmt(ev.soft_vs_deformable.velocity_angle_deg) << " deg from the baseline; the attacked object's gap is "
+          << fmt(ev.soft_vs_deformable.position_gap > 0
+                     ? ev.deformable_vs_deformable.position_gap / ev.soft_vs_deformable.position_gap
+                     : INFINITY, 3)
+          << " x that: what the optimisation adds to softness.\n";
     }
     out << "As rigid bodies the two objects are " << (ev.rigid_vs_rigid.max_position_gap <= 1e-9 ? "" : "NOT ")
         << "identical (max gap " << fmt(ev.rigid_vs_rigid.max_position_gap) << " m, bar 1e-9 m).\n\n";

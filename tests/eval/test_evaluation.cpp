@@ -70,8 +70,10 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   EXPECT_DOUBLE_EQ(report["deformable_vs_deformable"]["com_gap_m"].get<double>(),
                    ev.deformable_vs_deformable.position_gap);
   EXPECT_DOUBLE_EQ(report["calibration"][0]["restitution"].get<double>(), cal.restitution);
-  for (const char* f : {"summary.md", "rigid_reference.csv", "rigid_adversarial.csv",
-                        "deformable_reference.csv", "deformable_adversarial.csv", "paths.gp"}) {
+  EXPECT_DOUBLE_EQ(report["soft_control"]["vs_baseline"]["com_gap_m"].get<double>(), ev.soft_vs_deformable.position_gap);
+  EXPECT_DOUBLE_EQ(report["adversarial_vs_rigid"]["com_gap_m"].get<double>(), ev.adversarial_vs_rigid.position_gap);
+  for (const char* f : {"summary.md", "rigid_reference.csv", "rigid_adversarial.csv", "deformable_reference.csv",
+                        "deformable_adversarial.csv", "deformable_soft_uniform.csv", "paths.gp"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
   std::filesystem::remove_all(dir);
@@ -99,12 +101,20 @@ TEST(Evaluation, RunsAtTheConfigsEvaluationStepAndTheFlagOverridesIt) {
   EXPECT_NEAR(ev.baseline_disagreement, ev.deformable_vs_rigid.max_position_gap / ev.baseline_path_length, 1e-15);
   EXPECT_EQ(ev.adversarial_vs_rigid.a, "deformable adversarial");
   EXPECT_EQ(ev.adversarial_vs_rigid.b, "rigid reference");
+  // The soft control: same shape and moments, uniform at the lowest Y; it bounces differently
+  // from the stiff baseline, and the rigid twins cannot tell.
+  EXPECT_DOUBLE_EQ(ev.soft_Y, scene.Y_range.lo);
+  ASSERT_EQ(ev.deformable_soft.time.size(), 21u);
+  EXPECT_GT(ev.soft_vs_deformable.max_position_gap, 0.0);
+  EXPECT_EQ(ev.soft_vs_deformable.b, "deformable soft uniform");
 
   EvaluationOptions options;
   options.time_step = 0.02;  // the command line's --time_step wins over the config
+  options.soft_control = false;
   const Evaluation coarse = evaluate(scene, mesh, mesh, adv, options);
   EXPECT_DOUBLE_EQ(coarse.time_step, 0.02);
   EXPECT_EQ(coarse.deformable_reference.time.size(), 6u);
+  EXPECT_TRUE(coarse.deformable_soft.time.empty());
   options.duration = 0.01;  // shorter than one step
   EXPECT_THROW(evaluate(scene, mesh, mesh, adv, options), InputError);
 }

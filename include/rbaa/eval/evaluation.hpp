@@ -64,6 +64,9 @@ struct EvaluationOptions {
   /// the attack's step refined by 4 until the baseline agrees with the rigid reference.
   double time_step = 0;
   bool search_time_step = false;
+  /// Also simulate the reference shape in uniform material at the scene's softest allowed Young's
+  /// modulus (same moments): the share of a gap that softness alone explains.
+  bool soft_control = true;
   std::ostream* progress = nullptr;  ///< one line per step tried by the search
   RigidSettings rigid;          ///< plane restitutions are overwritten by the calibration
   double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
@@ -88,6 +91,11 @@ struct Evaluation {
   /// The deformable adversarial object against the rigid reference: what a rigid-body simulator
   /// predicts for the object against what happens to it.
   RunComparison adversarial_vs_rigid;
+  /// The control (EvaluationOptions::soft_control): uniform, Y = the scene's lowest, reference nu
+  /// and rho, against the baseline. Empty trace when not run.
+  RunTrace deformable_soft;
+  RunComparison soft_vs_deformable;
+  double soft_Y = 0;
   double attack_advantage = 0;  ///< deformable_vs_deformable gap / deformable_vs_rigid gap
   /// How well the stiff baseline agrees with the rigid reference: deformable_vs_rigid's largest
   /// gap over the baseline's path length. Above ~1 % the comparison measures the time
