@@ -203,8 +203,8 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   out.rigid = rigid;
 
   const auto rigid_start = std::chrono::steady_clock::now();
-  out.rigid_reference = trace_from_rigid("rigid reference", simulate_rigid(mass, shape, scene, rigid, scene.duration),
-                                         seconds_since(rigid_start));
+  const auto rigid_states = simulate_rigid(mass, shape, scene, rigid, scene.duration);
+  out.rigid_reference = trace_from_rigid("rigid reference", rigid_states, seconds_since(rigid_start));
   const RunComparison gap = compare_runs(out.baseline, out.rigid_reference);
   out.trial.time_step = scene.time_step;
   const auto& path = out.baseline.position;

@@ -163,13 +163,6 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                "smaller --time_step.\n";
       }
     }
-    if (ev.step_search.size() > 1) {
-      out << "\nSteps tried for the baseline (the last is used):\n\n| step (s) | strays (% of path) | wall time (s) |\n"
-          << "|---|---|---|\n";
-      for (const auto& t : ev.step_search) {
-        out << "| " << fmt(t.time_step) << " | " << fmt(100 * t.disagreement, 3) << " | " << fmt(t.seconds) << " |\n";
-      }
-    }
     if (!ev.deformable_soft.time.empty()) {
       out << "Control: the reference shape in uniform material at the softest allowed Y = " << fmt(ev.soft_Y)
           << " Pa (same moments) ends " << fmt(ev.soft_vs_deformable.position_gap) << " m and "
@@ -177,10 +170,18 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
           << fmt(ev.soft_vs_deformable.position_gap > 0
                      ? ev.deformable_vs_deformable.position_gap / ev.soft_vs_deformable.position_gap
                      : INFINITY, 3)
-          << " x that: what the optimisation adds to softness.\n";
+          << " x that (above 1 the optimisation adds to what softness alone does; below 1 it does not).\n";
     }
     out << "As rigid bodies the two objects are " << (ev.rigid_vs_rigid.max_position_gap <= 1e-9 ? "" : "NOT ")
         << "identical (max gap " << fmt(ev.rigid_vs_rigid.max_position_gap) << " m, bar 1e-9 m).\n\n";
+    if (ev.step_search.size() > 1) {
+      out << "Steps tried for the baseline (the last is used):\n\n| step (s) | strays (% of path) | wall time (s) |\n"
+          << "|---|---|---|\n";
+      for (const auto& t : ev.step_search) {
+        out << "| " << fmt(t.time_step) << " | " << fmt(100 * t.disagreement, 3) << " | " << fmt(t.seconds) << " |\n";
+      }
+      out << "\n";
+    }
     out << "| run | wall time (s) | CSV |\n|---|---|---|\n";
     for (const RunTrace* t : runs) out << "| " << t->name << " | " << fmt(t->seconds) << " | " << file_name(*t) << " |\n";
     if (!png.empty()) out << "\n![paths](paths.png)\n";
