@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <filesystem>
 #include <fstream>
 
@@ -130,6 +132,38 @@ TEST_F(AttackLoop, FailedSimulationStopsAtTheLastGoodDesign) {
   std::filesystem::remove(dir_ + "/checkpoint.json");
   calls = 0;
   EXPECT_THROW(run_attack_loop(*design_, *moments_, smoother_.get(), failing, theta0, options(6)), SolverError);
+}
+
+// The loop's step direction: tangent to the moments and downhill for gradients that lie mostly
+// across the tangent, in the metric of a preconditioner that scales one block by 1e7 (the
+// occupancy smoothing scales by about 1 / element volume). The Euclidean projection of the
+// preconditioned gradient, which the loop used before, goes uphill for some of them.
+TEST(MetricTangentProjector, PreconditionedProjectionIsTangentAndDescends) {
+  const int n = 60;
+  std::srand(7);
+  const Eigen::Matrix<double, 10, Eigen::Dynamic> J = Eigen::MatrixXd::Random(10, n);
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(n);
+  scale.tail(n / 2).setConstant(1e7);
+  auto precondition = [&](const Eigen::VectorXd& v) { return Eigen::VectorXd(scale.cwiseProduct(v)); };
+  const MetricTangentProjector tangent(J, precondition);
+  const Eigen::Matrix<double, 10, 10> JJt = J * J.transpose();
+  int euclidean_uphill = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    // Mostly across the tangent, as the cube's gradient is (moving mass changes its rigid
+    // motion; little else does).
+    const Eigen::VectorXd g = J.transpose() * Eigen::VectorXd::Random(10) + 1e-2 * Eigen::VectorXd::Random(n);
+    const Eigen::VectorXd z = tangent.project(precondition(g));
+    EXPECT_LT((J * z).norm(), 1e-9 * (J.norm() * z.norm())) << trial;
+    EXPECT_GE(g.dot(z), 0.0) << trial;
+    const Eigen::VectorXd Mg = precondition(g);
+    const Eigen::VectorXd euclidean = Mg - J.transpose() * JJt.ldlt().solve(J * Mg);
+    if (g.dot(euclidean) < 0) ++euclidean_uphill;
+  }
+  EXPECT_GT(euclidean_uphill, 0);
+  // Without a preconditioner it is the orthogonal projection.
+  const MetricTangentProjector plain(J, [](const Eigen::VectorXd& v) { return v; });
+  const Eigen::VectorXd v = Eigen::VectorXd::Random(n);
+  EXPECT_LT((plain.project(v) - (v - J.transpose() * JJt.ldlt().solve(J * v))).norm(), 1e-12 * v.norm());
 }
 
 TEST(PostProcess, RoundsRepairsRefitsAndRemovesVoids) {

@@ -3,6 +3,7 @@
 // with the occupancy gradient smoothed, an atomic checkpoint after every iteration and exact
 // resumption from it.
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include <functional>
@@ -72,10 +73,12 @@ struct AttackLoopOptions {
   std::string progress_path;    ///< empty: no progress.csv
   std::string fingerprint;
   bool resume = false;          ///< continue from checkpoint_path if it exists
-  /// Remove from every Adam step its component that changes the moments to first order,
-  /// dtheta <- dtheta - J^T (J J^T)^-1 J dtheta with J = dr/dtheta, then take up to three
-  /// Gauss-Newton steps theta -= J^T (J J^T)^-1 r back onto r = 0 (the second-order rest). Without it Adam's first steps (about learning_rate in every
-  /// entry) break the moments by 1e-2 and the loop spends its iterations restoring them.
+  /// Descend along the moments' tangent: Adam gets the preconditioned gradient projected onto
+  /// J z = 0 (J = dr/dtheta) in the preconditioner's metric (MetricTangentProjector), its step
+  /// is projected the same way, and up to four Gauss-Newton steps theta -= J^T (J J^T)^-1 r take
+  /// it back onto r = 0 (the second-order rest). Without it Adam's first steps (about
+  /// learning_rate in every entry) break the moments by 1e-2 and the loop spends its iterations
+  /// restoring them.
   bool project_moments = true;
   /// Called after every iteration with its row and the number of iterations in all.
   std::function<void(const ProgressRow&, int)> on_iteration;
@@ -91,6 +94,23 @@ struct AttackLoopResult {
   std::vector<ProgressRow> progress;
   int resumed_from = 0;   ///< iterations loaded from the checkpoint
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
+};
+
+/// Projection onto the tangent {z : J z = 0} of the moments' manifold in the metric of a
+/// symmetric positive definite preconditioner M (the occupancy smoothing; identity elsewhere):
+/// project(v) = v - W (J W)^-1 J v with W = M J^T. For a gradient g, z = project(M g) is tangent
+/// and g . z = |M^1/2 g|^2 - |its M^1/2 J^T-part|^2 >= 0, so -z descends. The Euclidean
+/// projection of M g has no such guarantee once M scales blocks differently.
+class MetricTangentProjector {
+ public:
+  MetricTangentProjector(const Eigen::Matrix<double, 10, Eigen::Dynamic>& J,
+                         const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& precondition);
+  Eigen::VectorXd project(const Eigen::VectorXd& v) const;
+
+ private:
+  Eigen::Matrix<double, 10, Eigen::Dynamic> J_;
+  Eigen::MatrixXd W_;
+  Eigen::LDLT<Eigen::Matrix<double, 10, 10>> JW_;
 };
 
 /// Moves theta onto r(theta) = 0 with up to `max_steps` Gauss-Newton steps
