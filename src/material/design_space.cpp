@@ -40,6 +40,8 @@ DesignSpaceOptions DesignSpaceOptions::from_scene(const Scene& scene) {
   o.alpha_min = scene.alpha_min;
   o.reference_rho = scene.reference_rho;
   o.alpha0 = scene.alpha0;
+  o.Y0 = scene.Y0;
+  o.nu0 = scene.nu0;
   o.boundary_by_vertex = scene.boundary_by_vertex;
   o.seed = scene.seed;
   o.perturbation = scene.perturbation;

@@ -336,6 +336,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.seed = static_cast<unsigned>(a.integer("seed", static_cast<int>(s.seed), 0, 2147483647));
     s.perturbation = a.number("perturbation", s.perturbation, 0.0, 10.0);
     s.alpha0 = a.number("alpha0", s.alpha0, s.alpha_min, 1.0, true, true);
+    // Strictly inside the bounds: the tanh map reaches a bound only at theta = +-infinity.
+    if (a.has("Y0")) s.Y0 = a.number("Y0", 0, s.Y_range.lo, s.Y_range.hi, true, true);
+    if (a.has("nu0")) s.nu0 = a.number("nu0", 0, s.nu_range.lo, s.nu_range.hi, true, true);
     s.smoothing_gamma = a.number("smoothing_gamma", s.smoothing_gamma, 0.0, inf);
     s.boundary_by_vertex = a.text("boundary", "faces", {"faces", "vertices"}) == "vertices";
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);

@@ -235,6 +235,12 @@ TEST(DesignSpace, OptionsFromScene) {
   EXPECT_EQ(o.alpha0, 0.95);
   EXPECT_EQ(o.seed, 11u);
   EXPECT_TRUE(o.boundary_by_vertex);
+  EXPECT_TRUE(std::isnan(o.Y0));  // the middle of the range unless the config says otherwise
+  scene.Y0 = 6e9;
+  scene.nu0 = 0.25;
+  const DesignSpaceOptions soft = DesignSpaceOptions::from_scene(scene);
+  EXPECT_EQ(soft.Y0, 6e9);
+  EXPECT_EQ(soft.nu0, 0.25);
 }
 
 }  // namespace

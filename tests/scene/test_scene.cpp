@@ -107,6 +107,8 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error(std::string(kMinimal) + "time:\n  step: .nan\n", {"time.step", "not finite"});
   expect_error(std::string(kMinimal) + "time:\n  step: -0.01\n", {"time.step", "outside"});
   expect_error(std::string(kMinimal) + "time: {step: 0.1, duration: 0.01}\n", {"time.duration", "shorter"});
+  expect_error(std::string(kMinimal) + "attack: {Y0: 2.5e9}\n", {"attack.Y0", "outside (2.5e+09"});
+  expect_error(std::string(kMinimal) + "attack: {nu0: 0.45}\n", {"attack.nu0", "outside"});
   expect_error(std::string(kMinimal) + "evaluation: {time_step: 0}\n", {"evaluation.time_step", "outside"});
   expect_error(std::string(kMinimal) + "evaluation: {time_step: 0.01, duration: 0.001}\n",
                {"evaluation.duration", "shorter"});

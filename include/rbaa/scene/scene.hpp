@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,11 @@ struct Scene {
   unsigned seed = 1;
   double perturbation = 0.1;  ///< std. dev. of the initial theta perturbation
   double alpha0 = 0.99;       ///< initial interior occupancy
+  /// Initial Young's modulus and Poisson ratio (attack.Y0, attack.nu0); NaN: the middle of the
+  /// range (SPEC section 4). Starting at the soft end makes the attack improve on the uniform
+  /// soft object that `rbaa evaluate` uses as its control.
+  double Y0 = std::numeric_limits<double>::quiet_NaN();
+  double nu0 = std::numeric_limits<double>::quiet_NaN();
   double smoothing_gamma = 1.0;  ///< relative to the mean edge length squared
   bool boundary_by_vertex = false;  ///< fix elements with any boundary vertex (else: boundary face)
   double round_threshold = 0.5;
