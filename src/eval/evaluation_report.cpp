@@ -70,8 +70,11 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   }
   std::vector<PathSeries> series;
   for (const RunTrace* t : runs) {
-    PathSeries s{t->name, Eigen::MatrixXd(t->position.size(), 3)};
-    for (size_t i = 0; i < t->position.size(); ++i) s.points.row(i) = t->position[i].transpose();
+    PathSeries s{t->name, Eigen::MatrixXd(t->position.size(), 3), Eigen::VectorXd(t->position.size())};
+    for (size_t i = 0; i < t->position.size(); ++i) {
+      s.points.row(i) = t->position[i].transpose();
+      s.times[i] = i < t->time.size() ? t->time[i] : NAN;
+    }
     series.push_back(std::move(s));
   }
   const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths", series, scene.planes);
