@@ -25,12 +25,14 @@ DECLARE_string(set);
 
 namespace {
 
-// Overrides that bound the work but change no result of a step that converges: a resumed run may
-// change them (an attack stopped by a Newton step that needed more iterations continues with
-// --set=newton.max_iterations=400).
+// Overrides that bound the work but change no result of a step that converges, or only extend the
+// run: a resumed run may change them (an attack stopped by a Newton step that needed more
+// iterations continues with --set=newton.max_iterations=400; a finished one gains a polish stage,
+// or a longer one, with --set=attack.polish_iterations=N).
 bool changes_results(const std::string& item) {
-  const std::string key = item.substr(0, item.find('='));
-  return key != "newton.max_iterations";
+  std::string key = item.substr(0, item.find('='));
+  key.erase(key.find_last_not_of(" \t") + 1);
+  return key != "newton.max_iterations" && key != "attack.polish_iterations";
 }
 
 // FNV-1a over the config's bytes and the overrides: a checkpoint belongs to exactly these.
@@ -114,9 +116,12 @@ RBAA_REGISTER_VERB(attack, rbaa::cli::Verb{
     "Minimises C = -|q_adv(T) - q_ref(T)|^2_Mref / (m0 L^2) + beta |r|^2 over per-element Y, nu,\n"
     "rho and alpha (the config's attack.fields) with Adam, then rounds the occupancy, joins the\n"
     "occupied elements into one body, re-fits densities to the reference moments (1e-10) and\n"
-    "re-simulates the final object. Progress goes to stderr and DIR/progress.csv; DIR/checkpoint.json\n"
-    "is written atomically after every iteration (--resume continues from it; a resume may raise\n"
-    "--set=newton.max_iterations=N, no other setting). Writes\n"
+    "re-simulates the final object; with attack.polish_iterations = N > 0 it then runs N Adam\n"
+    "iterations on Y, nu, rho of that solid object (occupancy fixed) and keeps the result if its gap\n"
+    "is larger. Progress goes to stderr and DIR/progress.csv (polish: DIR/polish_progress.csv);\n"
+    "DIR/checkpoint.json (polish_checkpoint.json) is written atomically after every iteration\n"
+    "(--resume continues from it; a resume may change --set=newton.max_iterations=N and\n"
+    "--set=attack.polish_iterations=N, no other setting). Writes\n"
     "DIR/adversarial.msh and .vtu (final object, element data Y, nu, rho, alpha), DIR/continuous.msh\n"
     "and DIR/report.json. A simulation that fails mid-run (Newton) stops the loop at the last design\n"
     "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate --materials).",

@@ -343,6 +343,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.boundary_by_vertex = a.text("boundary", "faces", {"faces", "vertices"}) == "vertices";
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);
     s.project_moments = a.text("project_moments", "true", {"true", "false"}) == "true";
+    s.polish_iterations = a.integer("polish_iterations", s.polish_iterations, 0, 1000000);
     a.finish();
   }
   top.finish();

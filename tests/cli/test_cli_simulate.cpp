@@ -147,6 +147,19 @@ TEST_F(CliSimulate, AttackKilledAndResumedEqualsUninterrupted) {
   };
   EXPECT_EQ(without_seconds("killed/progress.csv"), without_seconds("straight/progress.csv"));
 
+  // A finished run may gain a polish stage on resume: the loop's 12 iterations are not repeated.
+  const Result polished = run("attack --config=" + config + " --out=" + path("killed") +
+                              " --resume --set=attack.polish_iterations=2");
+  ASSERT_EQ(polished.exit_code, 0) << polished.err;
+  {
+    std::ifstream in(path("killed/report.json"));
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["iterations"].get<int>(), 12);
+    EXPECT_EQ(j["polish"]["iterations"].get<int>(), 2);
+    EXPECT_EQ(j["gap"]["continuous"], report_without_timing("straight")["gap"]["continuous"]);
+  }
+  EXPECT_EQ(without_seconds("killed/progress.csv"), without_seconds("straight/progress.csv"));
+
   // A checkpoint from another scene is refused with a clear error.
   const std::string other = write_config("other.yaml", slurp(config) + "contact: {d_hat: 0.002}\n");
   expect_failure("attack --config=" + other + " --out=" + path("killed") + " --resume", "checkpoint");

@@ -3,7 +3,8 @@
 //
 //   reference run -> Adam on C = C_traj + beta ||r||^2 (forward + adjoint per iteration, smoothed
 //   occupancy gradient, checkpoints) -> rounding, connectivity, density re-fit, void removal ->
-//   re-simulation of the final object.
+//   re-simulation -> optional polish (Adam on Y, nu, rho of the solid object, occupancy fixed;
+//   kept only if it widens the gap) -> the final object.
 
 #include <Eigen/Core>
 
@@ -43,8 +44,13 @@ struct AttackResult {
   double max_normalized_residual = 0;  ///< final object vs reference
   double continuous_max_residual = 0;  ///< before the re-fit (continuous field)
   AttackLoopResult loop;
+  /// The polish stage (attack.polish_iterations): Adam on Y, nu, rho of the solid object.
+  AttackLoopResult polish;
+  double polish_gap = 0;     ///< gap of the polished object (m), whether kept or not
+  bool polish_kept = false;  ///< the polished object beat the post-processed one and is the result
   double gap_initial = 0, gap_continuous = 0, gap_final = 0;          ///< m
   double com_gap_initial = 0, com_gap_continuous = 0, com_gap_final = 0;  ///< m
+  double gap_post_processed = 0, com_gap_post_processed = 0;          ///< before polishing (m)
   double objective_initial = 0, objective_final = 0;
   double forward_seconds = 0, adjoint_seconds = 0, total_seconds = 0;
 };

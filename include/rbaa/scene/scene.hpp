@@ -113,6 +113,9 @@ struct Scene {
   bool boundary_by_vertex = false;  ///< fix elements with any boundary vertex (else: boundary face)
   double round_threshold = 0.5;
   bool project_moments = true;  ///< project Adam steps onto the moments' tangent (attack_loop.hpp)
+  /// Adam iterations on Y, nu, rho of the rounded, connected, re-fitted object (attack.cpp's
+  /// polish stage); 0 turns it off. Only when alpha is optimised (otherwise nothing is rounded).
+  int polish_iterations = 0;
 };
 
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the YAML
