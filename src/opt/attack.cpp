@@ -256,7 +256,19 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
     r.com_gap_initial = v.com_gap;
     r.objective_initial = v.value + moments.penalty(r.loop.theta, scene.beta, nullptr);
   }
-  const TrajectoryTermValue final_value = term(r.loop.theta, nullptr);
+  TrajectoryTermValue final_value;
+  try {
+    final_value = term(r.loop.theta, nullptr);
+  } catch (const SolverError& e) {
+    // A run resumed after it had stopped early, with no iterations left, ends on its checkpoint's
+    // next design, which is the one that failed: keep the last design that simulated instead.
+    if (r.loop.evaluated_theta.size() == 0 || r.loop.evaluated_theta == r.loop.theta) throw;
+    r.loop.stopped_early = e.what();
+    r.loop.failed_theta = r.loop.theta;
+    r.loop.theta = r.loop.evaluated_theta;
+    stage("stopped early, keeping the last design whose simulation succeeded: " + r.loop.stopped_early);
+    final_value = term(r.loop.theta, nullptr);
+  }
   r.gap_continuous = final_value.gap;
   r.com_gap_continuous = final_value.com_gap;
   r.objective_final = final_value.value + moments.penalty(r.loop.theta, scene.beta, nullptr);

@@ -208,6 +208,7 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     if (options.on_iteration) options.on_iteration(row, options.iterations);
   }
   result.theta = theta;
+  result.evaluated_theta = evaluated;
   return result;
 }
 

@@ -128,6 +128,15 @@ TEST_F(AttackLoop, FailedSimulationStopsAtTheLastGoodDesign) {
   const AttackLoopResult again = run_attack_loop(*design_, *moments_, smoother_.get(), failing, theta0, resume);
   EXPECT_FALSE(again.stopped_early.empty());
   EXPECT_TRUE(again.theta == r.theta);
+  // Resumed with no iterations left, the loop simulates nothing and returns the checkpoint's next
+  // design (the failed one) with the last good one beside it, for run_attack to fall back to.
+  calls = 0;
+  AttackLoopOptions finished = options(3);
+  finished.resume = true;
+  const AttackLoopResult idle = run_attack_loop(*design_, *moments_, smoother_.get(), failing, theta0, finished);
+  EXPECT_EQ(calls, 0);
+  EXPECT_TRUE(idle.theta == failed);
+  EXPECT_TRUE(idle.evaluated_theta == r.theta);
   // Without any simulated design there is nothing to keep: the error propagates.
   std::filesystem::remove(dir_ + "/checkpoint.json");
   calls = 0;

@@ -91,6 +91,10 @@ struct AttackLoopResult {
   /// holds the error. A failure before any design was simulated is thrown.
   std::string stopped_early;
   Eigen::VectorXd failed_theta;  ///< the design whose simulation failed (empty unless stopped early)
+  /// The last design whose simulation succeeded (empty if none). After a resume with no
+  /// iterations left, `theta` is the checkpoint's next design, never simulated: if it fails, this
+  /// is where to fall back to.
+  Eigen::VectorXd evaluated_theta;
   std::vector<ProgressRow> progress;
   int resumed_from = 0;   ///< iterations loaded from the checkpoint
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
