@@ -15,46 +15,15 @@
 #include "rbaa/cli/verb.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/opt/attack.hpp"
+#include "rbaa/scene/scene_fingerprint.hpp"
 
 DEFINE_int32(iterations, -1, "Adam iterations (-1: the config's attack.iterations); a resumed run may extend it");
 DEFINE_bool(resume, false, "continue from OUT/checkpoint.json (written after every iteration)");
 DECLARE_string(factor_storage);
 DECLARE_string(out);
 DECLARE_string(config);
-DECLARE_string(set);
 
 namespace {
-
-// Overrides that bound the work but change no result of a step that converges, or only extend the
-// run: a resumed run may change them (an attack stopped by a Newton step that needed more
-// iterations continues with --set=newton.max_iterations=400; a finished one gains a polish stage,
-// or a longer one, with --set=attack.polish_iterations=N).
-bool changes_results(const std::string& item) {
-  std::string key = item.substr(0, item.find('='));
-  key.erase(key.find_last_not_of(" \t") + 1);
-  return key != "newton.max_iterations" && key != "attack.polish_iterations";
-}
-
-// FNV-1a over the config's bytes and the overrides: a checkpoint belongs to exactly these.
-std::string fingerprint(const std::string& config_path, const std::string& overrides) {
-  std::ifstream in(config_path, std::ios::binary);
-  std::string kept;
-  std::stringstream items(overrides);
-  for (std::string item; std::getline(items, item, ';');) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    if (!item.empty() && changes_results(item)) kept += (kept.empty() ? "" : ";") + item;
-  }
-  std::stringstream text;
-  text << in.rdbuf() << "\n--set " << kept;
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : text.str()) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  std::ostringstream out;
-  out << std::hex << std::setw(16) << std::setfill('0') << h;
-  return out.str();
-}
 
 std::string duration_text(double s) {
   std::ostringstream out;
@@ -72,7 +41,8 @@ int run_attack_verb() {
   options.out_dir = FLAGS_out;
   options.resume = FLAGS_resume;
   options.storage = rbaa::parse_factor_storage(FLAGS_factor_storage);
-  options.fingerprint = fingerprint(FLAGS_config, FLAGS_set);
+  // The parsed settings that change the result, not the config's bytes (scene_fingerprint.hpp).
+  options.fingerprint = rbaa::scene_fingerprint(scene);
   // The output folder must be writable before hours of work go into it.
   {
     std::error_code ec;

@@ -160,6 +160,14 @@ TEST_F(CliSimulate, AttackKilledAndResumedEqualsUninterrupted) {
   }
   EXPECT_EQ(without_seconds("killed/progress.csv"), without_seconds("straight/progress.csv"));
 
+  // The checkpoint belongs to the parsed settings, not to the config's bytes: the same scene with
+  // a comment, in another file, resumes (and finds nothing left to do).
+  const std::string commented = write_config("commented.yaml", "# the same scene, annotated\n" + slurp(config));
+  const Result annotated = run("attack --config=" + commented + " --out=" + path("killed") +
+                               " --resume --set=attack.polish_iterations=2");
+  ASSERT_EQ(annotated.exit_code, 0) << annotated.err;
+  EXPECT_EQ(without_seconds("killed/progress.csv"), without_seconds("straight/progress.csv"));
+
   // A checkpoint from another scene is refused with a clear error.
   const std::string other = write_config("other.yaml", slurp(config) + "contact: {d_hat: 0.002}\n");
   expect_failure("attack --config=" + other + " --out=" + path("killed") + " --resume", "checkpoint");

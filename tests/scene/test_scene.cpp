@@ -1,11 +1,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "rbaa/error.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_fingerprint.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
 
 namespace rbaa {
@@ -128,6 +131,63 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error("time: {step: 0.01}\n", {"mesh", "missing"});
   expect_error("mesh: [1, 2\n", {"test.yaml", "invalid YAML"});
   expect_error(kMinimal, {"--set", "key.path=value"}, {"oops"});
+}
+
+// The --resume fingerprint is over the parsed settings: spelling, comments, order, name and the
+// settings that only bound or extend the work leave it alone.
+TEST(Scene, FingerprintIgnoresWhatChangesNoResult) {
+  const std::string base =
+      "name: a\nmesh: {shape: cube, target_tets: 500}\ntime: {step: 0.01, duration: 0.05}\n"
+      "contact: {d_hat: 1.0e-3}\nattack: {iterations: 12, seed: 3}\n";
+  const std::string fp = scene_fingerprint(parse_scene(base, "a.yaml", ""));
+  EXPECT_EQ(fp.size(), 16u);
+  const std::string respelled =
+      "# the same scene, written differently\nattack: {seed: 3, iterations: 40, polish_iterations: 7}\n"
+      "contact: {d_hat: 0.001}   # 1 mm\ntime: {duration: 5.0e-2, step: 1e-2}\nname: b\n"
+      "mesh: {target_tets: 500, shape: cube}\nnewton: {max_iterations: 400}\n"
+      "evaluation: {time_step: 0.001, duration: 3}\n";
+  EXPECT_EQ(scene_fingerprint(parse_scene(respelled, "elsewhere/b.yaml", "")), fp)
+      << scene_fingerprint_text(parse_scene(respelled, "b.yaml", "")) << "\nvs\n"
+      << scene_fingerprint_text(parse_scene(base, "a.yaml", ""));
+  EXPECT_EQ(scene_fingerprint(parse_scene(base, "a.yaml", "", {"attack.polish_iterations=30",
+                                                                "newton.max_iterations=300"})),
+            fp);
+}
+
+// Every setting that changes an attack's result changes the fingerprint.
+TEST(Scene, FingerprintSeesEverySettingThatChangesAResult) {
+  const std::string base = "mesh: {shape: cube, target_tets: 500}\nobstacles: {planes: [{normal: [0, 0, 1], offset: 0}]}\n";
+  const std::string fp = scene_fingerprint(parse_scene(base, "a.yaml", ""));
+  for (const std::string o :
+       {"mesh.target_tets=600", "mesh.side=0.06", "object.position=[0, 0, 1]", "object.velocity=[0, 0, -1]",
+        "object.angular_velocity=[0, 1, 0]", "object.rotation={axis: [0, 1, 0], angle_deg: 10}",
+        "obstacles.planes=[{normal: [0, 0, 1], offset: 0.001}]", "gravity=off", "time.step=0.005",
+        "time.duration=0.3", "time.integrator=bdf1", "time.mass=lumped", "contact.d_hat=0.002",
+        "contact.kappa=1e6", "newton.tolerance=1e-7", "reference_material={Y: 1e12}",
+        "material_bounds={Y: [3e9, 6e11]}", "material_bounds={nu: [0.25, 0.4]}",
+        "material_bounds={rho: [900, 11300]}", "material_bounds={alpha_min: 0.01}", "attack.fields=[Y, rho]",
+        "attack.learning_rate=0.1", "attack.beta=1e3", "attack.adam_beta1=0.9", "attack.adam_beta2=0.99",
+        "attack.seed=2", "attack.perturbation=0.2", "attack.alpha0=0.9", "attack.Y0=1e10", "attack.nu0=0.3",
+        "attack.smoothing_gamma=2", "attack.boundary=vertices", "attack.round_threshold=0.4",
+        "attack.project_moments=false"}) {
+    EXPECT_NE(scene_fingerprint(parse_scene(base, "a.yaml", "", {o})), fp) << o;
+  }
+}
+
+// A tet mesh file enters by its content: editing it changes the fingerprint, moving it does not.
+TEST(Scene, FingerprintReadsTheMeshFile) {
+  const std::string dir = ::testing::TempDir();
+  auto write = [](const std::string& path, const std::string& text) { std::ofstream(path) << text; };
+  write(dir + "/fp_a.node", "one\n");
+  write(dir + "/fp_b.node", "one\n");
+  const auto fp = [&](const std::string& file) {
+    return scene_fingerprint(parse_scene("mesh: {file: " + file + "}\n", "a.yaml", dir));
+  };
+  EXPECT_EQ(fp("fp_a.node"), fp("fp_b.node"));
+  write(dir + "/fp_b.node", "two\n");
+  EXPECT_NE(fp("fp_a.node"), fp("fp_b.node"));
+  std::remove((dir + "/fp_a.node").c_str());
+  std::remove((dir + "/fp_b.node").c_str());
 }
 
 TEST(Scene, MissingFileIsAnError) {

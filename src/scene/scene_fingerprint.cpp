@@ -1,0 +1,100 @@
+#include "rbaa/scene/scene_fingerprint.hpp"
+
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace rbaa {
+
+namespace {
+
+std::uint64_t fnv1a(const std::string& bytes) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string hex(std::uint64_t h) {
+  std::ostringstream out;
+  out << std::hex << std::setw(16) << std::setfill('0') << h;
+  return out.str();
+}
+
+// Exact and locale-free: every bit of the double, "nan" for the unset initial materials.
+std::string number(double x) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%a", x);
+  return buffer;
+}
+
+std::string vector3(const Eigen::Vector3d& v) {
+  return number(v.x()) + " " + number(v.y()) + " " + number(v.z());
+}
+
+// A mesh or surface file enters by its bytes, so moving it changes nothing and editing it does.
+std::string file_content(const std::string& path) {
+  if (path.empty()) return "-";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "unreadable " + path;  // loading the scene reports it
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return hex(fnv1a(bytes.str()));
+}
+
+}  // namespace
+
+std::string scene_fingerprint_text(const Scene& s) {
+  std::ostringstream t;
+  t << "rbaa-attack 1\n";
+  t << "mesh.shape " << (s.mesh.shape.empty() ? "-" : s.mesh.shape) << "\n";
+  t << "mesh.surface " << file_content(s.mesh.surface_file) << "\n";
+  t << "mesh.file " << file_content(s.mesh.mesh_file) << "\n";
+  t << "mesh.target_tets " << s.mesh.target_tets << "\n";
+  t << "mesh.radius " << number(s.mesh.radius) << "\n";
+  t << "mesh.side " << number(s.mesh.side) << "\n";
+  t << "mesh.volume " << number(s.mesh.volume) << "\n";
+  t << "object.position " << vector3(s.position) << "\n";
+  t << "object.velocity " << vector3(s.velocity) << "\n";
+  t << "object.angular_velocity " << vector3(s.angular_velocity) << "\n";
+  t << "object.rotation " << vector3(s.rotation_axis) << " " << number(s.rotation_angle_deg) << "\n";
+  for (const Plane& p : s.planes) t << "plane " << vector3(p.normal) << " " << number(p.offset) << "\n";
+  t << "gravity " << vector3(s.gravity) << "\n";
+  t << "time.step " << number(s.time_step) << "\n";
+  t << "time.duration " << number(s.duration) << "\n";
+  t << "time.integrator " << (s.integrator == Integrator::kBdf1 ? "bdf1" : "bdf2") << "\n";
+  t << "time.mass " << (s.mass == MassModel::kLumped ? "lumped" : "consistent") << "\n";
+  t << "contact.d_hat " << number(s.d_hat) << "\n";
+  t << "contact.kappa " << number(s.kappa) << "\n";
+  t << "newton.tolerance " << number(s.newton_tolerance) << "\n";
+  t << "reference_material " << number(s.reference_Y) << " " << number(s.reference_nu) << " "
+    << number(s.reference_rho) << "\n";
+  t << "material_bounds.Y " << number(s.Y_range.lo) << " " << number(s.Y_range.hi) << "\n";
+  t << "material_bounds.nu " << number(s.nu_range.lo) << " " << number(s.nu_range.hi) << "\n";
+  t << "material_bounds.rho " << number(s.rho_range.lo) << " " << number(s.rho_range.hi) << "\n";
+  t << "material_bounds.alpha_min " << number(s.alpha_min) << "\n";
+  t << "attack.fields";
+  for (const std::string& f : s.fields) t << " " << f;
+  t << "\n";
+  t << "attack.learning_rate " << number(s.learning_rate) << "\n";
+  t << "attack.beta " << number(s.beta) << "\n";
+  t << "attack.adam " << number(s.adam_beta1) << " " << number(s.adam_beta2) << "\n";
+  t << "attack.seed " << s.seed << "\n";
+  t << "attack.perturbation " << number(s.perturbation) << "\n";
+  t << "attack.alpha0 " << number(s.alpha0) << "\n";
+  t << "attack.Y0 " << number(s.Y0) << "\n";
+  t << "attack.nu0 " << number(s.nu0) << "\n";
+  t << "attack.smoothing_gamma " << number(s.smoothing_gamma) << "\n";
+  t << "attack.boundary " << (s.boundary_by_vertex ? "vertices" : "faces") << "\n";
+  t << "attack.round_threshold " << number(s.round_threshold) << "\n";
+  t << "attack.project_moments " << (s.project_moments ? "true" : "false") << "\n";
+  return t.str();
+}
+
+std::string scene_fingerprint(const Scene& scene) { return hex(fnv1a(scene_fingerprint_text(scene))); }
+
+}  // namespace rbaa
