@@ -90,8 +90,9 @@ RBAA_REGISTER_VERB(attack, rbaa::cli::Verb{
     "iterations on Y, nu, rho of that solid object (occupancy fixed) and keeps the result if its gap\n"
     "is larger. Progress goes to stderr and DIR/progress.csv (polish: DIR/polish_progress.csv);\n"
     "DIR/checkpoint.json (polish_checkpoint.json) is written atomically after every iteration\n"
-    "(--resume continues from it; a resume may change --set=newton.max_iterations=N and\n"
-    "--set=attack.polish_iterations=N, no other setting). Writes\n"
+    "(--resume continues from it if the parsed settings that change the result are the same:\n"
+    "comments, key order, evaluation.*, attack.iterations, attack.polish_iterations and\n"
+    "newton.max_iterations may differ; a mesh file counts by its content). Writes\n"
     "DIR/adversarial.msh and .vtu (final object, element data Y, nu, rho, alpha), DIR/continuous.msh\n"
     "and DIR/report.json. A simulation that fails mid-run (Newton) stops the loop at the last design\n"
     "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate --materials).",
