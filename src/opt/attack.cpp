@@ -58,6 +58,22 @@ AttackLoopOptions attack_loop_options(const Scene& scene, const AttackOptions& o
   return loop;
 }
 
+// The loop's trajectory term: C_traj and its gradient from f, plus the gaps a progress row reports
+// (the objective's mass-weighted gap and the centre-of-mass distance to the reference's).
+TrajectoryTerm trajectory_term(TrajectoryGradientFunction& f, const UndirectedTrajectoryObjective& objective,
+                               const TetMesh& mesh, const Eigen::Vector3d& ref_com) {
+  return [&f, &objective, &mesh, ref_com](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    TrajectoryTermValue v;
+    v.value = f.evaluate(theta, gradient);
+    const TrajectoryEvaluation& e = f.last();
+    v.gap = objective.gap(e.trajectory.q.back());
+    v.com_gap = (centre_of_mass(e.trajectory.q.back(), vertex_masses(mesh, e.materials.effective_density())) - ref_com).norm();
+    v.forward_seconds = e.forward_seconds;
+    v.adjoint_seconds = e.adjoint_seconds + e.objective_seconds;
+    return v;
+  };
+}
+
 struct FinalGap {
   double gap = 0;      ///< m
   double com_gap = 0;  ///< m
@@ -97,7 +113,7 @@ FinalGap measure_solid(const TetMesh& mesh, const Eigen::VectorXd& reference_ele
   }
   FinalGap g;
   g.gap = std::sqrt(std::max(0.0, weighted) / kept_mass);
-  g.com_gap = (centre_of_mass(run.q.back(), vertex_masses(solid.mesh, solid.materials.effective_density())) - ref_com).norm();
+  g.com_gap = (centre_of_mass(run.q.back(), sim.vertex_masses()) - ref_com).norm();
   return g;
 }
 
@@ -140,16 +156,7 @@ void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, c
   TetMesh centred = solid.mesh;
   centred.V.rowwise() -= r.reference_moments.centre_of_mass().transpose();
   const MomentCostFunction moments(centred, design, centred_reference_moments);
-  const TrajectoryTerm term = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
-    TrajectoryTermValue v;
-    v.value = f.evaluate(theta, gradient);
-    const TrajectoryEvaluation& e = f.last();
-    v.gap = objective->gap(e.trajectory.q.back());
-    v.com_gap = (centre_of_mass(e.trajectory.q.back(), vertex_masses(solid.mesh, e.materials.effective_density())) - ref_com).norm();
-    v.forward_seconds = e.forward_seconds;
-    v.adjoint_seconds = e.adjoint_seconds + e.objective_seconds;
-    return v;
-  };
+  const TrajectoryTerm term = trajectory_term(f, *objective, solid.mesh, ref_com);
   AttackLoopOptions loop = attack_loop_options(scene, options, "polish_");
   loop.iterations = scene.polish_iterations;
   stage("polishing Y, nu, rho of the solid object (" + std::to_string(loop.iterations) + " iterations, " +
@@ -222,19 +229,7 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   std::unique_ptr<GradientSmoother> smoother;
   if (design.optimises(DesignField::kAlpha)) smoother = std::make_unique<GradientSmoother>(r.mesh, scene.smoothing_gamma);
 
-  auto com_gap = [&](const Trajectory& t, const MaterialField& m) {
-    return (centre_of_mass(t.q.back(), vertex_masses(r.mesh, m.effective_density())) - ref_com).norm();
-  };
-  const TrajectoryTerm term = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
-    TrajectoryTermValue v;
-    v.value = f.evaluate(theta, gradient);
-    const TrajectoryEvaluation& e = f.last();
-    v.gap = objective->gap(e.trajectory.q.back());
-    v.com_gap = com_gap(e.trajectory, e.materials);
-    v.forward_seconds = e.forward_seconds;
-    v.adjoint_seconds = e.adjoint_seconds + e.objective_seconds;
-    return v;
-  };
+  const TrajectoryTerm term = trajectory_term(f, *objective, r.mesh, ref_com);
 
   const AttackLoopOptions loop = attack_loop_options(scene, options, "");
   const Eigen::VectorXd theta0 = design.initial_theta(true);
