@@ -77,17 +77,16 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     // rotation (it shrinks the body by (1 - a) a theta^2 / 2), and at Y = 1e13 that shrinkage
     // alone can cost more than the step gains, so halving the chord needed ~20 halvings per
     // iteration where a body spun hard during a point impact.
-    const Eigen::VectorXd raw = dq;
-    bool along_transform = false;
+    Eigen::VectorXd raw;  // the untransformed step, kept only when the line search follows f
     if (transform_) {
       Eigen::VectorXd corrected = transform_(x, dq);
       if (g.dot(corrected) < 0) {
+        raw = std::move(dq);
         dq = std::move(corrected);
-        along_transform = true;
       }
     }
     auto step_at = [&](double a) -> Eigen::VectorXd {
-      if (!along_transform || a == 1.0) return x + a * dq;
+      if (raw.size() == 0 || a == 1.0) return x + a * dq;
       return x + transform_(x, a * raw);
     };
 
