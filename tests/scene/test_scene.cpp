@@ -127,6 +127,8 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error(std::string(kMinimal) + "attack: {fields: [Y, E]}\n", {"attack.fields", "'E'"});
   expect_error(std::string(kMinimal) + "time: {integrator: rk4}\n", {"time.integrator", "'rk4'"});
   expect_error(std::string(kMinimal) + "newton: {max_iterations: 2.5}\n", {"newton.max_iterations", "whole number"});
+  expect_error(std::string(kMinimal) + "attack: {polish_iterations: -1}\n", {"attack.polish_iterations"});
+  expect_error(std::string(kMinimal) + "attack: {polish_iterations: 2.5}\n", {"attack.polish_iterations", "whole number"});
   expect_error("mesh: {shape: cube, file: a.msh}\n", {"mesh", "exactly one of shape, surface, file"});
   expect_error("time: {step: 0.01}\n", {"mesh", "missing"});
   expect_error("mesh: [1, 2\n", {"test.yaml", "invalid YAML"});
