@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -199,8 +200,22 @@ DensityRefitResult refit_density(const TetMesh& mesh, const Eigen::VectorXd& alp
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
   solver_options.update_state_every_iteration = true;  // the callback reads result.c
+  // Stop at 1 % of the tolerance, or once the residual is within a few round-off units of zero
+  // if that is coarser: the residuals about the origin cannot be evaluated more finely than
+  // eps sum_e |S_ke| d_e / scale_k (for the ball at 3.4 m, |c| / L ~ 45, that unit is ~4e-13, and
+  // its ulp steps of 1.8e-13 are what Ceres sees below it). A fixed 1e-12 sat five such steps
+  // above zero, so whether and when it was reached depended on the last bits of the input (6 to
+  // 22 iterations on the same sphere).
+  double roundoff_unit = 0.0;
+  {
+    Eigen::VectorXd density = Eigen::VectorXd::Zero(nt);
+    for (int e = 0; e < nt; ++e) density[e] = alpha[e] * rho[e];
+    const MomentVector magnitude = S.cwiseAbs() * density.cwiseAbs() + m_ref.cwiseAbs();
+    roundoff_unit = std::numeric_limits<double>::epsilon() *
+                    magnitude.cwiseQuotient(scale).maxCoeff();
+  }
   StopWhenFitted stop([&] { return origin_residual(result.c).cwiseAbs().maxCoeff(); },
-                      0.01 * options.tolerance);
+                      std::max(0.01 * options.tolerance, 16.0 * roundoff_unit));
   solver_options.callbacks.push_back(&stop);
 
   ceres::Solver::Summary summary;
