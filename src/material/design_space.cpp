@@ -163,6 +163,19 @@ Eigen::VectorXd DesignSpace::initial_theta(bool perturb) const {
   return theta;
 }
 
+void DesignSpace::hold_fixed_fields(const MaterialField& field) {
+  if (field.size() != num_tets_ || field.nu.size() != num_tets_ || field.rho.size() != num_tets_ ||
+      field.alpha.size() != num_tets_) {
+    std::ostringstream msg;
+    msg << "material field does not have " << num_tets_ << " entries per array";
+    throw InputError(msg.str());
+  }
+  if (!optimises(DesignField::kY)) initial_.Y = field.Y;
+  if (!optimises(DesignField::kNu)) initial_.nu = field.nu;
+  if (!optimises(DesignField::kRho)) initial_.rho = field.rho;
+  if (!optimises(DesignField::kAlpha)) initial_.alpha = field.alpha;
+}
+
 MaterialField DesignSpace::to_material(const Eigen::VectorXd& theta) const {
   check_theta(theta);
   MaterialField m = initial_;

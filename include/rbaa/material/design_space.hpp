@@ -91,6 +91,11 @@ class DesignSpace {
   /// reference_rho everywhere. Fields not in theta keep these values in to_material.
   const MaterialField& initial_material() const { return initial_; }
 
+  /// Makes the fields that are not in theta keep the values of `field` (#T per array) instead of
+  /// the initial ones, so that one given design can be examined field by field. Throws
+  /// rbaa::InputError on a size mismatch.
+  void hold_fixed_fields(const MaterialField& field);
+
   /// theta of initial_material() plus, with perturb, N(0, perturbation^2) per entry drawn from
   /// std::mt19937_64(seed) through a Box-Muller transform in theta's order (the same on every
   /// platform, unlike std::normal_distribution).
