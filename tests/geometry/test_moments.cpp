@@ -36,6 +36,30 @@ TEST(Moments, BoxMatchesClosedForm) {
   }
 }
 
+// A box of two densities (lower half rho_a, upper half in z rho_b) against the sum of two
+// closed-form uniform boxes: a non-uniform density checked independently of the operator.
+TEST(Moments, TwoDensityBoxMatchesClosedForm) {
+  const Eigen::Vector3d lo(0.3, -1.2, 0.5), hi(1.1, -0.4, 2.1);
+  const TetMesh mesh = box_tet_mesh(lo, hi, 3, 2, 4);  // 4 cells in z: the split at z = 1.3 is a grid plane
+  const double rho_a = 1200.0, rho_b = 9100.0, z_split = 0.5 * (lo.z() + hi.z());
+  Eigen::VectorXd density(mesh.num_tets());
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    double zc = 0;
+    for (int a = 0; a < 4; ++a) zc += mesh.V(mesh.T(e, a), 2) / 4;
+    density[e] = zc < z_split ? rho_a : rho_b;
+  }
+  const Moments m = compute_moments(mesh, density);
+  const MomentVector ref = box_moments(lo, {hi.x(), hi.y(), z_split}, rho_a).as_vector() +
+                           box_moments({lo.x(), lo.y(), z_split}, hi, rho_b).as_vector();
+  const MomentVector d = m.as_vector() - ref;
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_NEAR(d[i], 0.0, 1e-12 * ref.cwiseAbs().maxCoeff()) << "moment " << i;
+  }
+  // The centre of mass lies in the heavy half, where the closed form puts it.
+  EXPECT_NEAR(m.centre_of_mass().z(), ref[3] / ref[0], 1e-12);
+  EXPECT_GT(m.centre_of_mass().z(), z_split);
+}
+
 TEST(Moments, OperatorIsLinearInDensity) {
   const TetMesh mesh = box_tet_mesh({0, 0, 0}, {1, 2, 3}, 2, 2, 2);
   const Eigen::VectorXd rho = Eigen::VectorXd::LinSpaced(mesh.num_tets(), 800, 11300);

@@ -7,9 +7,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "rbaa/mesh/tet_mesh.hpp"
+#include "rbaa/scene/scene.hpp"
 
 namespace rbaa::test {
 
@@ -83,6 +86,21 @@ inline Eigen::VectorXd deformed(const TetMesh& m, double noise, unsigned seed,
     q.segment<3>(3 * v) = x;
   }
   return q;
+}
+
+/// The smallest signed distance n . x - offset over ALL vertices of q (not only the surface list
+/// the contact code uses) and every plane: an independent non-penetration check.
+/// With `material` (#V flags, optional), only the flagged vertices count.
+inline double min_vertex_plane_distance(const Eigen::VectorXd& q, const std::vector<Plane>& planes,
+                                        const std::vector<char>& material = {}) {
+  double d = std::numeric_limits<double>::infinity();
+  for (Eigen::Index v = 0; v < q.size() / 3; ++v) {
+    if (!material.empty() && !material[v]) continue;
+    for (const Plane& p : planes) {
+      d = std::min(d, p.normal.normalized().dot(q.segment<3>(3 * v)) - p.offset);
+    }
+  }
+  return d;
 }
 
 }  // namespace rbaa::test
