@@ -56,6 +56,18 @@ TEST(GradcheckVerb, PassesOnTheBallAndFailsOnAnImpossibleTolerance) {
   EXPECT_EQ(ok.status, 0);
   EXPECT_NE(ok.output.find("direction  1:"), std::string::npos);
   EXPECT_NE(ok.output.find("PASS"), std::string::npos);
+  // The check covered contact: "contact in K of N steps" with K > 0, and no "no contact" note.
+  const std::size_t at = ok.output.find("contact in ");
+  ASSERT_NE(at, std::string::npos) << ok.output;
+  EXPECT_GT(std::stoi(ok.output.substr(at + 11)), 0) << ok.output;
+  EXPECT_EQ(ok.output.find("no contact"), std::string::npos) << ok.output;
+
+  // Material-space directions: a non-zero gradient norm is printed and the check passes.
+  const VerbRun material = run_verb("--fields=rho --directions=1 --fd_space=material");
+  EXPECT_EQ(material.status, 0) << material.output;
+  const std::size_t g_at = material.output.find("|gradient| ");
+  ASSERT_NE(g_at, std::string::npos) << material.output;
+  EXPECT_GT(std::stod(material.output.substr(g_at + 11)), 0.0) << material.output;
 
   // Below any achievable tolerance finite differences are either wrong or noise: never PASS.
   const VerbRun bad = run_verb("--fields=nu --directions=1 --gradcheck_tolerance=1e-300 --factor_storage=rebuild");

@@ -20,6 +20,25 @@
 namespace rbaa {
 namespace {
 
+// C2 at d_hat: with delta = d_hat - d, b ~ delta^3 / d_hat, b' ~ -3 delta^2 / d_hat and
+// b'' ~ 6 delta / d_hat all vanish as d -> d_hat from below (so a pair entering the active set
+// adds no jump to the energy, the forces or the Hessian), and all three are 0 at and beyond d_hat.
+TEST(Barrier, TwiceContinuousAtDHat) {
+  const double d_hat = 1e-3;
+  const Barrier b(d_hat);
+  for (double rel : {1e-2, 1e-3, 1e-4}) {
+    const double delta = rel * d_hat, d = d_hat - delta;
+    EXPECT_NEAR(b.value(d) / (std::pow(delta, 3) / d_hat), 1.0, 2 * rel) << rel;
+    EXPECT_NEAR(b.first_derivative(d) / (-3 * delta * delta / d_hat), 1.0, 2 * rel) << rel;
+    EXPECT_NEAR(b.second_derivative(d) / (6 * delta / d_hat), 1.0, 2 * rel) << rel;
+  }
+  for (double d : {d_hat, 1.5 * d_hat, 10 * d_hat}) {
+    EXPECT_EQ(b.value(d), 0.0) << d;
+    EXPECT_EQ(b.first_derivative(d), 0.0) << d;
+    EXPECT_EQ(b.second_derivative(d), 0.0) << d;
+  }
+}
+
 TEST(Barrier, DerivativesMatchFiniteDifferences) {
   const Barrier b(1e-3);
   for (double d : {1e-7, 1e-6, 1e-5, 1e-4, 5e-4, 9.9e-4}) {

@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "form_checks.hpp"
@@ -45,6 +48,34 @@ TEST(ElasticForm, DerivativesMatchFiniteDifferencesForExtremeMaterials) {
       EXPECT_LE(e.hessian, 1e-6);
     }
   }
+}
+
+// Frame invariance: a deformed state rotated (and translated) rigidly keeps its energy, and its
+// forces rotate with it, per vertex, for the extreme alternating materials.
+TEST(ElasticForm, EnergyAndForcesAreFrameInvariant) {
+  const TetMesh mesh = test::ball_mesh(0.1, 2);
+  Eigen::Matrix3d stretch;
+  stretch << 1.05, 0.02, 0, -0.01, 0.97, 0.03, 0.0, 0.01, 1.02;
+  const ElasticForm form(mesh, extreme_field(mesh.num_tets(), 0.3));
+  const Eigen::VectorXd q = test::deformed(mesh, 0.03, 5, stretch);
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
+  const Eigen::Vector3d t(0.4, -1.3, 3.4);
+  Eigen::VectorXd q_rot(q.size());
+  for (Eigen::Index v = 0; v < q.size() / 3; ++v) q_rot.segment<3>(3 * v) = R * q.segment<3>(3 * v) + t;
+  const double E = form.value(q), E_rot = form.value(q_rot);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(q.size()), g_rot = Eigen::VectorXd::Zero(q.size());
+  form.add_gradient(q, 1.0, g);
+  form.add_gradient(q_rot, 1.0, g_rot);
+  double force_error = 0;
+  for (Eigen::Index v = 0; v < q.size() / 3; ++v) {
+    force_error = std::max(force_error, (g_rot.segment<3>(3 * v) - R * g.segment<3>(3 * v)).norm());
+  }
+  std::printf("frame invariance: E %.6e, |E_rot - E| / E %.2e, max force error / |g| %.2e\n", E,
+              std::abs(E_rot - E) / E, force_error / g.lpNorm<Eigen::Infinity>());
+  EXPECT_GT(E, 0);
+  EXPECT_NEAR(E_rot, E, 1e-10 * E);
+  EXPECT_LE(force_error, 1e-9 * g.lpNorm<Eigen::Infinity>());
 }
 
 TEST(ElasticForm, EverySingleElementMaterialPassesOnItsOwn) {
