@@ -2,6 +2,10 @@
 // the moments stay matched; the outputs hold what the report promises.
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -28,6 +32,33 @@ const char* kSmallScene =
     "time: {step: 0.01, duration: 0.1}\n"
     "attack: {iterations: 30, perturbation: 0}\n";
 
+// The paper's plain penalty (attack.project_moments: false): the moments drift and beta ||r||^2
+// pulls them back. Its own bound: Adam moves every theta by about the learning rate per step, so
+// a step changes rho by at most lr (rho_max - rho_min) / 2 (the tanh map's largest slope), i.e.
+// the normalised m0 by lr (rho_max - rho_min) / (2 rho_ref); the penalty keeps the residual within
+// that one-step drift (measured 2026-11-25: worst 2.4e-2, last 3.4e-3, bound 0.105; the default
+// beta does not hold the moments tighter than Adam's step), and the re-fit brings it to 1e-10.
+TEST(Attack, PenaltyModeHoldsTheMomentsByItsPenalty) {
+  std::string text = kSmallScene;
+  const std::string attack = "attack: {iterations: 30, perturbation: 0}";
+  text.replace(text.find(attack), attack.size(),
+               "attack: {iterations: 15, perturbation: 0, project_moments: false}");
+  const Scene scene = parse_scene(text, "small_penalty.yaml", "");
+  ASSERT_FALSE(scene.project_moments);
+  const AttackResult r = run_attack(scene, {});
+  ASSERT_EQ(r.loop.progress.size(), 15u);
+  double worst = 0;
+  for (const ProgressRow& row : r.loop.progress) worst = std::max(worst, row.max_moment_residual);
+  const double one_step_drift =
+      scene.learning_rate * (scene.rho_range.hi - scene.rho_range.lo) / (2 * scene.reference_rho);
+  std::printf("penalty moments: worst residual %.2e, last %.2e, gap %.3e -> %.3e m\n", worst,
+              r.loop.progress.back().max_moment_residual, r.gap_initial, r.gap_continuous);
+  EXPECT_GT(worst, 1e-11);  // not projected: the moments do drift
+  EXPECT_LT(worst, one_step_drift);
+  EXPECT_GT(r.gap_continuous, r.gap_initial);
+  EXPECT_LE(r.max_normalized_residual, 1e-10);
+}
+
 TEST(Attack, RaisesTheGapWithMatchedMoments) {
   const Scene scene = parse_scene(kSmallScene, "small.yaml", "");
   const AttackResult r = run_attack(scene, {});
@@ -37,7 +68,11 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   EXPECT_GT(r.gap_continuous - r.gap_initial, 0.5 * (5.24e-4 - 2.29e-5))
       << r.gap_initial << " -> " << r.gap_continuous;
   EXPECT_GT(r.gap_final - r.gap_initial, 0.5 * (4.82e-4 - 2.29e-5)) << r.gap_final;
-  for (const ProgressRow& row : r.loop.progress) EXPECT_LT(row.max_moment_residual, 1e-3) << row.iteration;
+  // Projected steps keep the moments matched to round-off (README: ~1e-14) at every iteration.
+  double worst = 0;
+  for (const ProgressRow& row : r.loop.progress) worst = std::max(worst, row.max_moment_residual);
+  std::printf("projected moments: worst residual over the loop %.2e\n", worst);
+  EXPECT_LT(worst, 1e-11);
   EXPECT_LE(r.max_normalized_residual, 1e-10);
   EXPECT_EQ(r.post.connectivity.components_after, 1);
   // Perceptually rigid materials only.
