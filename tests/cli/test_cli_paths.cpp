@@ -1,0 +1,118 @@
+// Command-line paths no other test reached: --flagfile, --newton_log, PLY surfaces, the study
+// verb with a memory budget, a resume refused with both fingerprints named, and the cube config
+// touching both of its planes.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <set>
+#include <string>
+
+#include "cli/cli_fixture.hpp"
+#include "rbaa/io/tet_mesh_file.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+
+namespace {
+
+using rbaa_cli_test::Cli;
+using rbaa_cli_test::Result;
+
+const char* kTinyBall =
+    "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
+    "object: {position: [0, -0.13, 0.5], velocity: [0, 2.0, 0]}\n"
+    "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
+    "gravity: off\n"
+    "time: {step: 0.01, duration: 0.05}\n";
+
+class CliPaths : public Cli {
+ protected:
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+};
+
+TEST_F(CliPaths, FlagfileAndNewtonLog) {
+  const std::string config = write("ball.yaml", kTinyBall);
+  const std::string flags = write("sim.flags", "--config=" + config + "\n--out=" + path("sim") +
+                                                   "\n--newton_log\n--progress=false\n");
+  const Result r = run("simulate --flagfile=" + flags);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(path("sim/report.json")));
+  // One line per Newton iteration that takes a step (step 1 starts on the ballistic answer and
+  // needs none): the step, the Hessian kind, the step velocity.
+  EXPECT_NE(r.err.find("step 2 (t = 0.02 s)  it   0"), std::string::npos) << r.err;
+  // --progress=false in the flag file took effect too: no per-step progress lines.
+  EXPECT_EQ(r.err.find("step    1  t "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" m/s  ccd "), std::string::npos) << r.err;
+  EXPECT_TRUE(r.err.find("exact") != std::string::npos ||
+              r.err.find("projected") != std::string::npos);
+}
+
+// A unit cube as an ASCII PLY (8 vertices, 12 outward triangles), tetrahedralised.
+TEST_F(CliPaths, MeshesAPlySurface) {
+  const std::string ply = write("cube.ply",
+                                "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\n"
+                                "property float y\nproperty float z\nelement face 12\n"
+                                "property list uchar int vertex_indices\nend_header\n"
+                                "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                                "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
+                                "3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n");
+  const Result r = run("mesh --surface=" + ply + " --target_tets=400 --out=" + path("cube.msh"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const rbaa::TetMesh mesh = rbaa::read_tet_mesh(path("cube.msh")).mesh;
+  EXPECT_GT(mesh.num_tets(), 100);
+  EXPECT_NEAR(rbaa::tet_volumes(mesh).sum(), 1.0, 1e-9);  // a box is meshed exactly
+}
+
+TEST_F(CliPaths, StudyWithAMemoryBudget) {
+  const std::string config = write("ball.yaml", kTinyBall);
+  const std::string sweep = " --time_steps=0.01 --mesh_factors=1 --newton_tolerances=1e-8 --reference_divisor=2";
+  const Result r = run("study --config=" + config + " --out=" + path("study") + sweep +
+                       " --memory_budget_gb=1e-9");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = slurp(path("study/study.csv"));
+  EXPECT_NE(csv.find("sweep,label"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(path("study/study.md")));
+  // Below the budget every stored factorisation is rebuilt instead, and the rows say so.
+  EXPECT_NE(csv.find(": rebuilt"), std::string::npos) << csv;
+  expect_failure("study --config=" + config + " --out=" + path("s2") + sweep + " --memory_budget_gb=0",
+                 "memory_budget_gb");
+}
+
+TEST_F(CliPaths, ResumeRefusalNamesBothFingerprints) {
+  const std::string config = write("ball.yaml", kTinyBall);
+  const Result first = run("attack --config=" + config + " --iterations=1 --out=" + path("a"));
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const Result again = run("attack --config=" + config +
+                           " --iterations=2 --resume --set=attack.learning_rate=0.02 --out=" + path("a"));
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.err.find("checkpoint belongs to another scene or other settings"), std::string::npos)
+      << again.err;
+  const std::size_t found = again.err.find("(fingerprint ");
+  const std::size_t expected = again.err.find(", expected ");
+  ASSERT_NE(found, std::string::npos) << again.err;
+  ASSERT_NE(expected, std::string::npos) << again.err;
+  const std::string a = again.err.substr(found + 13, expected - found - 13);
+  const std::string b = again.err.substr(expected + 11, again.err.find(')', expected) - expected - 11);
+  EXPECT_FALSE(a.empty());
+  EXPECT_FALSE(b.empty());
+  EXPECT_NE(a, b);
+}
+
+// configs/cube.yaml at a coarse mesh: the cube goes up to the ceiling and back down to the floor
+// (SPEC's cube scene), so a report holds bounces off both planes.
+TEST_F(CliPaths, CubeConfigTouchesBothPlanes) {
+  const Result r = run("simulate --config=" RBAA_SOURCE_DIR "/configs/cube.yaml "
+                       "--set=mesh.target_tets=300 --progress=false --vtu_every=0 --out=" + path("cube"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("cube/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  std::set<int> planes;
+  for (const auto& b : report["bounces"]) planes.insert(b["plane"].get<int>());
+  EXPECT_EQ(planes, (std::set<int>{0, 1})) << report["bounces"].dump();
+  EXPECT_GT(report["min_contact_distance"].get<double>(), 0.0);
+}
+
+}  // namespace
