@@ -57,7 +57,9 @@ GradientCheckResult tangent_check(TrajectoryGradientFunction& f, const Eigen::Ve
   return check_gradient(f, theta, o);
 }
 
-void expect_config_fields(const std::string& name) {
+// strict: the error itself within 1e-10; otherwise within the bar or 4x the tangent's own
+// measured round-off (the cube: 150 stiff steps, its Y and nu move the objective by 1e-13).
+void expect_config_fields(const std::string& name, bool strict = true) {
   const ConfigProblem p = config_problem(name);
   for (DesignField field : {DesignField::kY, DesignField::kNu, DesignField::kRho, DesignField::kAlpha}) {
     DesignSpaceOptions options = DesignSpaceOptions::from_scene(p.scene);
@@ -69,18 +71,23 @@ void expect_config_fields(const std::string& name) {
                 design_field_name(field), p.mesh.num_tets(), p.settings.num_steps,
                 r.active_contact_steps, r.gradient_norm);
     for (const DirectionCheck& d : r.directions) {
-      std::printf(" %.2e (pointwise %.2e)", d.tangent_relative_error, d.tangent_pointwise_error);
+      std::printf(" %.2e (pointwise %.2e, own round-off %.1e)", d.tangent_relative_error,
+                  d.tangent_pointwise_error, d.tangent_noise);
     }
     std::printf("\n");
     EXPECT_GT(r.active_contact_steps, 0) << name;
     EXPECT_GT(r.gradient_norm, 0) << name;
-    EXPECT_LE(r.max_tangent_relative_error, kTangentBar) << name << " " << design_field_name(field);
+    EXPECT_TRUE(r.tangent_pass) << name << " " << design_field_name(field);
+    if (strict) {
+      EXPECT_LE(r.max_tangent_relative_error, kTangentBar) << name << " " << design_field_name(field);
+    }
   }
 }
 
 TEST(TangentLinear, BallConfigEveryField) { expect_config_fields("ball"); }
 TEST(TangentLinear, StarConfigEveryField) { expect_config_fields("star"); }
 TEST(TangentLinear, BunnyConfigEveryField) { expect_config_fields("bunny"); }
+TEST(TangentLinear, CubeConfigEveryField) { expect_config_fields("cube", false); }
 
 // Random per-element materials over the whole rigid range, a fifth of the interior near void
 // (alpha at alpha_min), checked in material space with every field at once.

@@ -44,6 +44,11 @@ struct GradientCheckOptions {
   bool material_space = false;
   /// Finite-difference errors above this are re-measured at 4x the step (noise test).
   double fd_tolerance = 1e-5;
+  /// Tangent-vs-adjoint normwise error that passes (or 4x the tangent's measured round-off, if
+  /// larger: on long stiff runs the forward recurrence's own round-off reaches ~1e-10).
+  double tangent_tolerance = 1e-10;
+  /// An error within this many times the tangent's own measured round-off passes (0: off).
+  double tangent_noise_factor = 4.0;
 };
 
 struct DirectionCheck {
@@ -62,6 +67,9 @@ struct DirectionCheck {
   /// normwise error (the two Cauchy-Schwarz bounds of the derivative), the pass criterion
   double tangent_relative_error = 0;
   double tangent_pointwise_error = 0;  ///< |tangent - adjoint| / max(|tangent|, |adjoint|)
+  /// |T(d) - T(s) - T(d - s)| for a random s, normwise like tangent_relative_error: the tangent's
+  /// own round-off (it is linear in d)
+  double tangent_noise = 0;
 };
 
 struct GradientCheckResult {
@@ -70,6 +78,10 @@ struct GradientCheckResult {
   std::vector<DirectionCheck> directions;
   double max_relative_error = 0;          ///< finite differences, over all directions
   double max_tangent_relative_error = 0;  ///< tangent-linear, over all directions
+  double max_tangent_noise = 0;           ///< the tangent's own round-off, over all directions
+  /// Every direction's tangent error within max(tangent_tolerance, tangent_noise_factor x its
+  /// tangent_noise)
+  bool tangent_pass = false;
   bool fd_noise_dominated = false;        ///< every direction above fd_tolerance was noise
   int active_contact_steps = 0;  ///< steps of the base run with contact pairs active
   double tangent_seconds = 0;    ///< wall time of the tangent pass (all directions)
