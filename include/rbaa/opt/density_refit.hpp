@@ -23,6 +23,9 @@ namespace rbaa {
 struct DensityRefitOptions {
   double tolerance = 1e-10;  ///< required max |normalised residual|
   int max_iterations = 50;
+  /// Compare the analytic Jacobian (through the tanh map and the preconditioned basis) with
+  /// central differences before solving; the normwise error goes to jacobian_check_error.
+  bool check_jacobian = false;
 };
 
 struct DensityRefitResult {
@@ -33,6 +36,8 @@ struct DensityRefitResult {
   double max_residual = 0.0;
   int iterations = 0;              ///< Ceres iterations (successful + unsuccessful steps)
   std::string ceres_report;        ///< Ceres' brief report
+  /// ||J - J_fd||_F / ||J||_F, worst of two points (with options.check_jacobian; else 0)
+  double jacobian_check_error = 0.0;
 };
 
 /// Re-fits rho (#T, each strictly inside rho_map's range; values on a bound are moved inside by
