@@ -8,6 +8,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulate.hpp"
 
@@ -217,10 +218,17 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
 }  // namespace
 
 Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
-                    const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
+                    const TetMesh& adversarial_as_given, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options) {
-  validate_material_field(adversarial_materials, adversarial_mesh.num_tets(), "adversarial materials");
-  check_same_surface(reference_mesh, adversarial_mesh, "adversarial mesh");
+  validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
+                          "adversarial materials");
+  check_same_surface(reference_mesh, adversarial_as_given, "adversarial mesh");
+  // object.position is the centre of mass: an object whose materials put it elsewhere than the
+  // reference's centroid starts translated (an attack's object has the reference's moments, so
+  // the translation is round-off).
+  const TetMesh adversarial_mesh =
+      place_centre_of_mass(scene_in, adversarial_as_given,
+                           adversarial_materials.effective_density(), "adversarial mesh");
   Evaluation ev;
   Scene scene = scene_in;
   ev.attack_time_step = scene_in.time_step;

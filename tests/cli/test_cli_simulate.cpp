@@ -54,6 +54,40 @@ TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
   EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["iterations_per_step"].size(), 2u);
 }
 
+// object.position is the centre of mass (README): a materials file with non-uniform density moves
+// the mesh so that the mass-weighted centre, not the volume centroid, starts there.
+TEST_F(CliSimulate, MaterialsFileStartsTheCentreOfMassAtThePosition) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  const rbaa::Scene scene = rbaa::parse_scene(kTinyBall, config, "");
+  const rbaa::TetMesh mesh = rbaa::make_scene_mesh(scene);
+  // Dense on the +x side, light on the -x side: the centroid is millimetres from the centre of
+  // mass.
+  rbaa::MaterialField f = rbaa::MaterialField::uniform(mesh.num_tets(), 1e10, 0.3, 2500);
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    double x = 0;
+    for (int k = 0; k < 4; ++k) x += mesh.V(mesh.T(e, k), 0) / 4;
+    f.rho[e] = x > scene.position.x() ? 11300 : 800;
+  }
+  const Eigen::Vector3d centroid_placed =
+      rbaa::compute_moments(mesh, f.effective_density()).centre_of_mass();
+  ASSERT_GT((centroid_placed - scene.position).norm(), 1e-3);
+  rbaa::write_materials_csv(path("heavy_x.csv"), f);
+  const Result r = run("simulate --config=" + config + " --materials=" + path("heavy_x.csv") +
+                       " --vtu_every=0 --out=" + path("sim"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream csv(slurp(path("sim/trajectory.csv")));
+  std::string header, first;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  std::replace(first.begin(), first.end(), ',', ' ');
+  std::istringstream row(first);
+  double step, time;
+  Eigen::Vector3d com;
+  row >> step >> time >> com.x() >> com.y() >> com.z();
+  EXPECT_LT((com - scene.position).norm(), 1e-12 * scene.position.norm())
+      << "centre of mass at t = 0: " << com.transpose();
+}
+
 TEST_F(CliSimulate, BadInputGivesOneLineErrors) {
   const std::string config = write_config("ball.yaml", kTinyBall);
   std::ofstream(path("few.csv")) << "Y,nu,rho,alpha\n1e10,0.3,2500,1\n";

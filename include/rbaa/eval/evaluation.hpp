@@ -105,7 +105,9 @@ struct Evaluation {
 };
 
 /// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's
-/// initial pose; the reference uses the scene's uniform reference material. Throws
+/// initial pose; the reference uses the scene's uniform reference material. The adversarial
+/// object is then translated so that its own centre of mass is at scene.position
+/// (place_centre_of_mass; round-off for an attack's moment-matched object). Throws
 /// rbaa::InputError if the adversarial object's outer surface is not the reference's or its
 /// materials do not fit its mesh.
 Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,
