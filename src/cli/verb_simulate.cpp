@@ -60,8 +60,14 @@ int run_simulate() {
                run.trajectory.num_steps(), run.simulate_seconds, run.settings.kappa,
                run.kappa_from_rule ? ", energy rule" : "", FLAGS_out.c_str());
   for (const rbaa::Bounce& b : run.bounces) {
-    std::fprintf(stderr, "bounce on plane %d at t %.3f s: restitution %s%.3f\n", b.plane,
-                 b.first_step * scene.time_step, b.complete ? "" : "(incomplete) ", b.restitution);
+    const double t = b.first_step * scene.time_step;
+    if (b.kind == rbaa::BounceKind::kBounce) {
+      std::fprintf(stderr, "bounce on plane %d at t %.3f s: restitution %.3f\n", b.planes[0], t,
+                   b.restitution);
+    } else {
+      std::fprintf(stderr, "%s contact at t %.3f s: no restitution: %s\n",
+                   rbaa::bounce_kind_name(b.kind), t, b.note.c_str());
+    }
   }
   return 0;
 }
@@ -83,5 +89,6 @@ RBAA_REGISTER_VERB(simulate, rbaa::cli::Verb{
     "Writes DIR/trajectory.csv (per step: time, centre of mass, linear and angular momentum,\n"
     "orientation quaternion, minimum contact distance, Newton iterations),\n"
     "DIR/trajectory.pvd with DIR/frames/*.vtu for ParaView, and DIR/report.json (steps, Newton\n"
-    "iterations, kappa, timings, the restitution of every bounce).",
+    "iterations, kappa, timings, and every contact episode: its kind, planes and normal\n"
+    "velocities; a restitution only for a one-plane contact whose normal velocity reversed).",
     flags(), run_simulate});

@@ -88,6 +88,56 @@ TEST_F(CliSimulate, MaterialsFileStartsTheCentreOfMassAtThePosition) {
       << "centre of mass at t = 0: " << com.transpose();
 }
 
+// A cube thrown into the corner of a floor and a wall, tilted so that it touches both planes
+// within one contact episode. Per plane, the centre of mass's normal velocity before and after
+// such an episode is no bounce off that plane (it read restitutions of -0.32 on both planes);
+// the report names the planes of a corner episode and gives no restitution, and every number it
+// does give is -v_n,out / v_n,in of a one-plane contact whose normal velocity reversed.
+TEST_F(CliSimulate, CornerContactIsReportedWithItsPlanesAndNoRestitution) {
+  const std::string config =
+      write_config("corner.yaml",
+                   "mesh: {shape: cube, side: 0.05, target_tets: 300}\n"
+                   "object: {position: [0, 0.04, 0.04], velocity: [0, -1, -1],\n"
+                   "         rotation: {axis: [1, 0, 0], angle_deg: 35}}\n"
+                   "obstacles:\n"
+                   "  planes:\n"
+                   "    - {normal: [0, 0, 1], offset: 0}\n"
+                   "    - {normal: [0, 1, 0], offset: 0}\n"
+                   "gravity: off\n"
+                   "time: {step: 0.01, duration: 0.2}\n");
+  const Result r = run("simulate --config=" + config + " --vtu_every=0 --out=" + path("corner"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("corner/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  ASSERT_FALSE(report["bounces"].empty());
+  int corners = 0;
+  for (const auto& b : report["bounces"]) {
+    SCOPED_TRACE(b.dump());
+    ASSERT_TRUE(b.contains("kind"));
+    const std::string kind = b["kind"].get<std::string>();
+    if (kind == "bounce") {
+      ASSERT_EQ(b["planes"].size(), 1u);
+      const double in_v = b["normal_velocity_in"][0].get<double>();
+      const double out_v = b["normal_velocity_out"][0].get<double>();
+      EXPECT_LT(in_v, 0.0);
+      EXPECT_GT(out_v, 0.0);
+      EXPECT_DOUBLE_EQ(b["restitution"].get<double>(), -out_v / in_v);
+    } else {
+      EXPECT_TRUE(b["restitution"].is_null());
+      EXPECT_FALSE(b["note"].get<std::string>().empty());
+    }
+    if (kind == "corner") {
+      ++corners;
+      EXPECT_EQ(b["planes"], nlohmann::json::array({0, 1}));
+      EXPECT_EQ(b["normal_velocity_in"].size(), 2u);
+    }
+  }
+  EXPECT_GE(corners, 1);
+  // The summary on stderr says the same: no restitution for a corner.
+  EXPECT_NE(r.err.find("corner contact at t "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no restitution: planes 0 and 1"), std::string::npos) << r.err;
+}
+
 TEST_F(CliSimulate, BadInputGivesOneLineErrors) {
   const std::string config = write_config("ball.yaml", kTinyBall);
   std::ofstream(path("few.csv")) << "Y,nu,rho,alpha\n1e10,0.3,2500,1\n";
