@@ -16,7 +16,8 @@
 #include "rbaa/scene/scene_mesh.hpp"
 
 DEFINE_string(adversarial, "", "the adversarial object: an rbaa .msh with element data Y, nu, rho, alpha, "
-                               "placed at the scene's initial pose (rbaa attack writes adversarial.msh)");
+                               "placed at the scene's initial pose (rbaa attack writes adversarial.msh); it is translated so "
+                               "that its own centre of mass is at object.position");
 DEFINE_double(duration, 0, "seconds to simulate (0: the config's evaluation.duration, else 4 x the attack's time.duration)");
 DEFINE_string(time_step, "", "time step of the deformable runs and of the traces: seconds, or auto (refine the "
                              "attack's step by 4 until the stiff baseline agrees with its rigid twin); empty: the "

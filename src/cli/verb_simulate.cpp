@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 #include "rbaa/cli/scene_flags.hpp"
 #include "rbaa/cli/verb.hpp"
@@ -26,10 +27,14 @@ int run_simulate() {
   if (FLAGS_out.empty()) throw rbaa::InputError("--out is required");
   if (FLAGS_vtu_every < 0) throw rbaa::InputError("--vtu_every must be >= 0");
   const rbaa::Scene scene = rbaa::cli::load_scene_from_flags();
-  const rbaa::TetMesh mesh = rbaa::make_scene_mesh(scene);
+  rbaa::TetMesh mesh = rbaa::make_scene_mesh(scene);
   rbaa::MaterialField materials = rbaa::MaterialField::uniform(
       mesh.num_tets(), scene.reference_Y, scene.reference_nu, scene.reference_rho);
-  if (!FLAGS_materials.empty()) materials = rbaa::read_materials(FLAGS_materials, mesh.num_tets());
+  if (!FLAGS_materials.empty()) {
+    materials = rbaa::read_materials(FLAGS_materials, mesh.num_tets());
+    mesh = rbaa::place_centre_of_mass(scene, std::move(mesh), materials.effective_density(),
+                                      FLAGS_materials);
+  }
 
   rbaa::SimulationOptions options;
   if (FLAGS_progress) {
@@ -55,8 +60,14 @@ int run_simulate() {
                run.trajectory.num_steps(), run.simulate_seconds, run.settings.kappa,
                run.kappa_from_rule ? ", energy rule" : "", FLAGS_out.c_str());
   for (const rbaa::Bounce& b : run.bounces) {
-    std::fprintf(stderr, "bounce on plane %d at t %.3f s: restitution %s%.3f\n", b.plane,
-                 b.first_step * scene.time_step, b.complete ? "" : "(incomplete) ", b.restitution);
+    const double t = b.first_step * scene.time_step;
+    if (b.kind == rbaa::BounceKind::kBounce) {
+      std::fprintf(stderr, "bounce on plane %d at t %.3f s: restitution %.3f\n", b.planes[0], t,
+                   b.restitution);
+    } else {
+      std::fprintf(stderr, "%s contact at t %.3f s: no restitution: %s\n",
+                   rbaa::bounce_kind_name(b.kind), t, b.note.c_str());
+    }
   }
   return 0;
 }
@@ -73,9 +84,11 @@ RBAA_REGISTER_VERB(simulate, rbaa::cli::Verb{
     "simulate", "run the deformable (FEM) simulation of a scene",
     "rbaa simulate --config=FILE [--materials=FILE] --out=DIR\n\n"
     "Simulates the scene's reference object (or the object with the given per-element\n"
-    "materials) with BDF time stepping, stable Neo-Hookean elasticity and IPC contact against\n"
-    "the scene's planes. Writes DIR/trajectory.csv (per step: time, centre of mass, linear and\n"
-    "angular momentum, orientation quaternion, minimum contact distance, Newton iterations),\n"
+    "materials, moved so that its centre of mass is at object.position) with BDF time\n"
+    "stepping, stable Neo-Hookean elasticity and IPC contact against the scene's planes.\n"
+    "Writes DIR/trajectory.csv (per step: time, centre of mass, linear and angular momentum,\n"
+    "orientation quaternion, minimum contact distance, Newton iterations),\n"
     "DIR/trajectory.pvd with DIR/frames/*.vtu for ParaView, and DIR/report.json (steps, Newton\n"
-    "iterations, kappa, timings, the restitution of every bounce).",
+    "iterations, kappa, timings, and every contact episode: its kind, planes and normal\n"
+    "velocities; a restitution only for a one-plane contact whose normal velocity reversed).",
     flags(), run_simulate});

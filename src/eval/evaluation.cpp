@@ -8,6 +8,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulate.hpp"
 
@@ -181,24 +182,33 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   rigid.margin = std::min(rigid.margin, scene.d_hat);
   const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
   out.rigid_internal_step = scene.time_step / substeps;
-  // Fit each plane's restitution to the baseline's first bounce off it, in the order of the
-  // bounces, so that the rigid reference starts every plane's contact as the baseline did.
+  // Fit each plane's restitution to the baseline's first rebound off it, in the order of the
+  // contacts, so that the rigid reference starts every plane's contact as the baseline did. A
+  // corner episode has no restitution, but the rigid twin meets the same corner: its rebound
+  // ratio along each touched plane's normal across the episode is what rigid_first_rebound
+  // measures on the twin, so that ratio is the target (when the normal velocity reversed).
   rigid.plane_restitution.assign(scene.planes.size(), 1.0);
   for (const Bounce& b : baseline.bounces) {
-    if (!b.complete) continue;
-    bool seen = false;
-    for (auto& c : out.calibrations) {
-      if (c.plane == b.plane) {
-        c.later_deformable_rebounds.push_back(b.restitution);
-        seen = true;
+    if (b.kind != BounceKind::kBounce && b.kind != BounceKind::kCorner) continue;
+    for (size_t i = 0; i < b.planes.size(); ++i) {
+      const int plane = b.planes[i];
+      const double in = b.normal_velocity_in[i], out_v = b.normal_velocity_out[i];
+      if (!(in < 0 && out_v > 0)) continue;
+      const double rebound = -out_v / in;
+      bool seen = false;
+      for (auto& c : out.calibrations) {
+        if (c.plane == plane) {
+          if (b.kind == BounceKind::kBounce) c.later_deformable_rebounds.push_back(rebound);
+          seen = true;
+        }
       }
+      if (seen) continue;
+      RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration,
+                                                       plane, rebound, calibration_tolerance);
+      c.time = b.first_step * scene.time_step;
+      rigid.plane_restitution[plane] = c.restitution;
+      out.calibrations.push_back(c);
     }
-    if (seen) continue;
-    RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration, b.plane,
-                                                     b.restitution, calibration_tolerance);
-    c.time = b.first_step * scene.time_step;
-    rigid.plane_restitution[b.plane] = c.restitution;
-    out.calibrations.push_back(c);
   }
   out.rigid = rigid;
 
@@ -217,10 +227,17 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
 }  // namespace
 
 Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
-                    const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
+                    const TetMesh& adversarial_as_given, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options) {
-  validate_material_field(adversarial_materials, adversarial_mesh.num_tets(), "adversarial materials");
-  check_same_surface(reference_mesh, adversarial_mesh, "adversarial mesh");
+  validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
+                          "adversarial materials");
+  check_same_surface(reference_mesh, adversarial_as_given, "adversarial mesh");
+  // object.position is the centre of mass: an object whose materials put it elsewhere than the
+  // reference's centroid starts translated (an attack's object has the reference's moments, so
+  // the translation is round-off).
+  const TetMesh adversarial_mesh =
+      place_centre_of_mass(scene_in, adversarial_as_given,
+                           adversarial_materials.effective_density(), "adversarial mesh");
   Evaluation ev;
   Scene scene = scene_in;
   ev.attack_time_step = scene_in.time_step;

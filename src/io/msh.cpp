@@ -68,6 +68,14 @@ struct RawElementData {
   std::vector<int> lines;
 };
 
+// How far a counted list has got: what the file ending inside it reports.
+struct ListProgress {
+  const char* section;  // "$Elements"
+  std::string unit;     // "elements"
+  long long expected;
+  long long read;
+};
+
 class MshParser {
  public:
   explicit MshParser(const std::string& path) : reader_(path) {}
@@ -164,7 +172,7 @@ class MshParser {
     const int n = reader_.read_count("the number of nodes");
     reader_.expect_line_end("the number of nodes");
     for (int i = 0; i < n; ++i) {
-      expect_entry_line("node", i, n, count_line);
+      expect_entry_line("node", i, n, count_line, {"$Nodes", "nodes", n, i});
       const long long tag = reader_.read_int("a node tag");
       const double x = reader_.read_double("the node's x coordinate");
       const double y = reader_.read_double("the node's y coordinate");
@@ -185,7 +193,7 @@ class MshParser {
     reader_.expect_line_end("the maximum node tag");
     long long done = 0;
     for (int b = 0; b < num_blocks; ++b) {
-      expect_entry_line("node block", b, num_blocks, count_line);
+      expect_entry_line("node block", b, num_blocks, count_line, {"$Nodes", "nodes", n, done});
       const long long dim = reader_.read_int("the entity dimension");
       reader_.read_int("the entity tag");
       const long long parametric = reader_.read_int("the parametric flag");
@@ -201,14 +209,15 @@ class MshParser {
       }
       std::vector<long long> tags(k);
       for (int i = 0; i < k; ++i) {
-        expect_entry_line("node tag", i, k, block_line);
+        expect_entry_line("node tag", i, k, block_line, {"$Nodes", "nodes", n, done});
         tags[i] = reader_.read_int("a node tag");
         reader_.expect_line_end("the node tag");
       }
       // Parametric nodes carry their coordinates on the entity (u; u v; u v w) after x y z.
       const int extra = parametric ? static_cast<int>(dim) : 0;
       for (int i = 0; i < k; ++i) {
-        expect_entry_line("node coordinate line", i, k, block_line);
+        expect_entry_line("node coordinate line", i, k, block_line,
+                          {"$Nodes", "nodes", n, done + i});
         const double x = reader_.read_double("the node's x coordinate");
         const double y = reader_.read_double("the node's y coordinate");
         const double z = reader_.read_double("the node's z coordinate");
@@ -252,7 +261,7 @@ class MshParser {
     const int m = reader_.read_count("the number of elements");
     reader_.expect_line_end("the number of elements");
     for (int i = 0; i < m; ++i) {
-      expect_entry_line("element", i, m, count_line);
+      expect_entry_line("element", i, m, count_line, {"$Elements", "elements", m, i});
       const long long tag = reader_.read_int("an element tag");
       const long long type = reader_.read_int("the element type");
       const int num_tags = reader_.read_count("the number of element tags", 1000);
@@ -283,7 +292,8 @@ class MshParser {
     reader_.expect_line_end("the maximum element tag");
     long long done = 0;
     for (int b = 0; b < num_blocks; ++b) {
-      expect_entry_line("element block", b, num_blocks, count_line);
+      expect_entry_line("element block", b, num_blocks, count_line,
+                        {"$Elements", "elements", m, done});
       reader_.read_int("the entity dimension");
       reader_.read_int("the entity tag");
       const long long type = reader_.read_int("the element type");
@@ -298,7 +308,7 @@ class MshParser {
       const ElementKind kind = classify_element(type, &description);
       if (kind == ElementKind::kUnsupportedVolume) refuse_element_type(type, description);
       for (int i = 0; i < k; ++i) {
-        expect_entry_line("element", i, k, block_line);
+        expect_entry_line("element", i, k, block_line, {"$Elements", "elements", m, done + i});
         const long long tag = reader_.read_int("an element tag");
         if (kind == ElementKind::kLinearTet) {
           read_tet_nodes(tag);
@@ -365,7 +375,8 @@ class MshParser {
     data.element_tags.reserve(count);
     data.values.reserve(count);
     for (int i = 0; i < count; ++i) {
-      expect_entry_line("element data value", i, count, count_line);
+      expect_entry_line("element data value", i, count, count_line,
+                        {"$ElementData", "values of '" + data.name + "'", count, i});
       data.element_tags.push_back(reader_.read_int("an element tag"));
       data.values.push_back(reader_.read_double("the element's value"));
       reader_.expect_line_end("the element's value");
@@ -375,12 +386,17 @@ class MshParser {
     data_.push_back(std::move(data));
   }
 
-  // Starts the next line of a counted list; a section end or the file end here means the count
-  // announced on `count_line` is larger than the list.
-  void expect_entry_line(const char* what, long long done, long long announced, int count_line) {
-    if (!reader_.next_line()) {
-      reader_.fail_end_of_file(std::string(what) + " " + std::to_string(done + 1) + " of " +
-                               std::to_string(announced));
+  // Starts the next line of a counted list; a section end here means the count announced on
+  // `count_line` is larger than the list. The file ending here, or this line being the file's
+  // last with no line break after it (a cut inside the line: "1" left of "16 ..." would read as
+  // a duplicate tag 1), means the file is truncated: an entry line is always followed by at
+  // least its section's end.
+  void expect_entry_line(const char* what, long long done, long long announced, int count_line,
+                         const ListProgress& progress) {
+    if (!reader_.next_line() || reader_.on_unterminated_last_line()) {
+      reader_.fail("file ends inside the " + std::string(progress.section) + " section (expected " +
+                   std::to_string(progress.expected) + " " + progress.unit + ", read " +
+                   std::to_string(progress.read) + "): the file is truncated");
     }
     {
       const std::string_view first = reader_.peek_word();

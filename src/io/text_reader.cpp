@@ -83,6 +83,11 @@ int TextReader::line() const {
   return index_ < n ? index_ + 1 : n;
 }
 
+bool TextReader::on_unterminated_last_line() const {
+  return index_ >= 0 && index_ + 1 == static_cast<int>(lines_.size()) && !content_.empty() &&
+         content_.back() != '\n';
+}
+
 void TextReader::skip_blanks() {
   if (index_ < 0 || index_ >= static_cast<int>(lines_.size())) return;
   const std::string_view line = lines_[index_];

@@ -239,7 +239,7 @@ TetMesh tetrahedralize_with_size(const SurfaceMesh& surface, double cell_size,
 }
 
 TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options,
-                       const std::string& source) {
+                       const std::string& source, MeshingOutcome* outcome) {
   if (options.target_tets < 10) {
     throw InputError(source + ": target_tets must be at least 10, got " +
                      std::to_string(options.target_tets));
@@ -252,6 +252,9 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options
   TetMesh best;
   double best_error = std::numeric_limits<double>::infinity();
   std::string last_fault;
+  MeshingOutcome record;
+  record.target_tets = options.target_tets;
+  record.tolerance = options.tolerance;
   for (int attempt = 0; attempt < options.max_attempts; ++attempt) {
     TetMesh mesh;
     try {
@@ -260,9 +263,11 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options
       // Mesh_3 can leave a flat sliver at sharp features (seen on the star at 400 tets); another
       // cell size gives another mesh.
       last_fault = e.what();
+      record.attempts.push_back({size, 0, last_fault});
       size *= 0.97;
       continue;
     }
+    record.attempts.push_back({size, mesh.num_tets(), ""});
     const double ratio = static_cast<double>(mesh.num_tets()) / options.target_tets;
     const double error = std::abs(ratio - 1.0);
     if (error < best_error) {
@@ -273,6 +278,8 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options
     size *= std::cbrt(ratio);
   }
   if (best.num_tets() == 0) throw InputError(last_fault);
+  record.tets = best.num_tets();
+  if (outcome) *outcome = std::move(record);
   return best;
 }
 
@@ -313,7 +320,8 @@ void normalise_volume(TetMesh& mesh, double volume) {
 
 }  // namespace
 
-TetMesh mesh_surface_file(const std::string& path, int target_tets, double volume) {
+TetMesh mesh_surface_file(const std::string& path, int target_tets, double volume,
+                          MeshingOutcome* outcome) {
   SurfaceMesh s = read_surface(path);
   MeshingOptions options;
   options.target_tets = target_tets;
@@ -321,24 +329,29 @@ TetMesh mesh_surface_file(const std::string& path, int target_tets, double volum
     // Mesh at about the wanted size so that the count target means the same thing.
     s.V *= std::cbrt(volume / enclosed_volume(s));
   }
-  TetMesh mesh = tetrahedralize(s, options, path);
+  TetMesh mesh = tetrahedralize(s, options, path, outcome);
   if (volume > 0) normalise_volume(mesh, volume);
   return mesh;
 }
 
-TetMesh mesh_shape(const std::string& shape, int target_tets, const ShapeParameters& params) {
+TetMesh mesh_shape(const std::string& shape, int target_tets, const ShapeParameters& params,
+                   MeshingOutcome* outcome) {
   if (target_tets <= 0) target_tets = default_tet_count(shape);
   else default_tet_count(shape);  // validates the name
   MeshingOptions options;
   options.target_tets = target_tets;
   if (shape == "sphere") {
-    return tetrahedralize(sphere_surface(params.radius > 0 ? params.radius : 0.121), options, "sphere");
+    return tetrahedralize(sphere_surface(params.radius > 0 ? params.radius : 0.121), options,
+                          "sphere", outcome);
   }
   if (shape == "cube") {
-    return tetrahedralize(cube_surface(params.side > 0 ? params.side : 0.05), options, "cube");
+    return tetrahedralize(cube_surface(params.side > 0 ? params.side : 0.05), options, "cube",
+                          outcome);
   }
-  if (shape == "star") return tetrahedralize(star_surface(), options, "star");
-  if (shape == "bat") return tetrahedralize(lathe_surface(bat_profile(), 96), options, "bat");
+  if (shape == "star") return tetrahedralize(star_surface(), options, "star", outcome);
+  if (shape == "bat") {
+    return tetrahedralize(lathe_surface(bat_profile(), 96), options, "bat", outcome);
+  }
   // bunny: CGAL's bunny00.off is y-up; new (x, y, z) = old (z, x, y) stands it upright.
   const std::string path = bunny_surface_path();
   SurfaceMesh s = read_surface(path);
@@ -348,7 +361,7 @@ TetMesh mesh_shape(const std::string& shape, int target_tets, const ShapeParamet
   }
   const double volume = 1.5604;
   s.V *= std::cbrt(volume / enclosed_volume(s));
-  TetMesh mesh = tetrahedralize(s, options, path);
+  TetMesh mesh = tetrahedralize(s, options, path, outcome);
   normalise_volume(mesh, volume);
   return mesh;
 }

@@ -169,15 +169,21 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                  {"steps_ending_with_exact_factor", exact}};
   r["min_contact_distance"] = std::isfinite(dmin) ? nlohmann::json(dmin) : nlohmann::json(nullptr);
   nlohmann::json bounces = nlohmann::json::array();
+  // One entry per contact episode; only a one-plane contact whose normal velocity reversed has a
+  // restitution, every other kind says why it has none.
   for (const Bounce& b : run.bounces) {
-    bounces.push_back({{"plane", b.plane},
-                       {"first_step", b.first_step},
-                       {"last_step", b.last_step},
-                       {"time", t.time(b.first_step)},
-                       {"normal_velocity_in", b.normal_velocity_in},
-                       {"normal_velocity_out", b.normal_velocity_out},
-                       {"restitution", b.complete ? nlohmann::json(b.restitution) : nlohmann::json(nullptr)},
-                       {"complete", b.complete}});
+    nlohmann::json entry = {
+        {"kind", bounce_kind_name(b.kind)},
+        {"planes", b.planes},
+        {"first_step", b.first_step},
+        {"last_step", b.last_step},
+        {"time", t.time(b.first_step)},
+        {"normal_velocity_in", b.normal_velocity_in},
+        {"normal_velocity_out", b.normal_velocity_out},
+        {"restitution",
+         b.kind == BounceKind::kBounce ? nlohmann::json(b.restitution) : nlohmann::json(nullptr)}};
+    if (!b.note.empty()) entry["note"] = b.note;
+    bounces.push_back(entry);
   }
   r["bounces"] = bounces;
   const StepObservables& last = run.observables.back();

@@ -398,8 +398,12 @@ class StudyRunner {
     Scene s = scene_;
     s.time_step = h;
     progress("adversarial object: " + label);
-    Simulator sim(mesh, materials, simulation_settings(s, kappa_), options_.adversarial_file);
-    const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(mesh.V.data(), 3 * mesh.num_vertices());
+    // Its own centre of mass starts at object.position, as in rbaa evaluate.
+    const TetMesh placed = place_centre_of_mass(scene_, mesh, materials.effective_density(),
+                                                options_.adversarial_file);
+    Simulator sim(placed, materials, simulation_settings(s, kappa_), options_.adversarial_file);
+    const Eigen::VectorXd q0 =
+        Eigen::Map<const Eigen::VectorXd>(placed.V.data(), 3 * placed.num_vertices());
     const Trajectory t = sim.run(q0, rigid_velocities(q0, s.position, s.velocity, s.angular_velocity));
     const FinalState f = final_state(t, sim.vertex_masses());
     SurvivalPoint p;

@@ -110,7 +110,9 @@ TEST_F(CliPaths, CubeConfigTouchesBothPlanes) {
   std::ifstream in(path("cube/report.json"));
   const auto report = nlohmann::json::parse(in);
   std::set<int> planes;
-  for (const auto& b : report["bounces"]) planes.insert(b["plane"].get<int>());
+  for (const auto& b : report["bounces"]) {
+    for (const auto& p : b["planes"]) planes.insert(p.get<int>());
+  }
   EXPECT_EQ(planes, (std::set<int>{0, 1})) << report["bounces"].dump();
   EXPECT_GT(report["min_contact_distance"].get<double>(), 0.0);
 }

@@ -54,6 +54,90 @@ TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
   EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["iterations_per_step"].size(), 2u);
 }
 
+// object.position is the centre of mass (README): a materials file with non-uniform density moves
+// the mesh so that the mass-weighted centre, not the volume centroid, starts there.
+TEST_F(CliSimulate, MaterialsFileStartsTheCentreOfMassAtThePosition) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  const rbaa::Scene scene = rbaa::parse_scene(kTinyBall, config, "");
+  const rbaa::TetMesh mesh = rbaa::make_scene_mesh(scene);
+  // Dense on the +x side, light on the -x side: the centroid is millimetres from the centre of
+  // mass.
+  rbaa::MaterialField f = rbaa::MaterialField::uniform(mesh.num_tets(), 1e10, 0.3, 2500);
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    double x = 0;
+    for (int k = 0; k < 4; ++k) x += mesh.V(mesh.T(e, k), 0) / 4;
+    f.rho[e] = x > scene.position.x() ? 11300 : 800;
+  }
+  const Eigen::Vector3d centroid_placed =
+      rbaa::compute_moments(mesh, f.effective_density()).centre_of_mass();
+  ASSERT_GT((centroid_placed - scene.position).norm(), 1e-3);
+  rbaa::write_materials_csv(path("heavy_x.csv"), f);
+  const Result r = run("simulate --config=" + config + " --materials=" + path("heavy_x.csv") +
+                       " --vtu_every=0 --out=" + path("sim"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream csv(slurp(path("sim/trajectory.csv")));
+  std::string header, first;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  std::replace(first.begin(), first.end(), ',', ' ');
+  std::istringstream row(first);
+  double step, time;
+  Eigen::Vector3d com;
+  row >> step >> time >> com.x() >> com.y() >> com.z();
+  EXPECT_LT((com - scene.position).norm(), 1e-12 * scene.position.norm())
+      << "centre of mass at t = 0: " << com.transpose();
+}
+
+// A cube thrown into the corner of a floor and a wall, tilted so that it touches both planes
+// within one contact episode. Per plane, the centre of mass's normal velocity before and after
+// such an episode is no bounce off that plane (it read restitutions of -0.32 on both planes);
+// the report names the planes of a corner episode and gives no restitution, and every number it
+// does give is -v_n,out / v_n,in of a one-plane contact whose normal velocity reversed.
+TEST_F(CliSimulate, CornerContactIsReportedWithItsPlanesAndNoRestitution) {
+  const std::string config =
+      write_config("corner.yaml",
+                   "mesh: {shape: cube, side: 0.05, target_tets: 300}\n"
+                   "object: {position: [0, 0.04, 0.04], velocity: [0, -1, -1],\n"
+                   "         rotation: {axis: [1, 0, 0], angle_deg: 35}}\n"
+                   "obstacles:\n"
+                   "  planes:\n"
+                   "    - {normal: [0, 0, 1], offset: 0}\n"
+                   "    - {normal: [0, 1, 0], offset: 0}\n"
+                   "gravity: off\n"
+                   "time: {step: 0.01, duration: 0.2}\n");
+  const Result r = run("simulate --config=" + config + " --vtu_every=0 --out=" + path("corner"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("corner/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  ASSERT_FALSE(report["bounces"].empty());
+  int corners = 0;
+  for (const auto& b : report["bounces"]) {
+    SCOPED_TRACE(b.dump());
+    ASSERT_TRUE(b.contains("kind"));
+    const std::string kind = b["kind"].get<std::string>();
+    if (kind == "bounce") {
+      ASSERT_EQ(b["planes"].size(), 1u);
+      const double in_v = b["normal_velocity_in"][0].get<double>();
+      const double out_v = b["normal_velocity_out"][0].get<double>();
+      EXPECT_LT(in_v, 0.0);
+      EXPECT_GT(out_v, 0.0);
+      EXPECT_DOUBLE_EQ(b["restitution"].get<double>(), -out_v / in_v);
+    } else {
+      EXPECT_TRUE(b["restitution"].is_null());
+      EXPECT_FALSE(b["note"].get<std::string>().empty());
+    }
+    if (kind == "corner") {
+      ++corners;
+      EXPECT_EQ(b["planes"], nlohmann::json::array({0, 1}));
+      EXPECT_EQ(b["normal_velocity_in"].size(), 2u);
+    }
+  }
+  EXPECT_GE(corners, 1);
+  // The summary on stderr says the same: no restitution for a corner.
+  EXPECT_NE(r.err.find("corner contact at t "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no restitution: planes 0 and 1"), std::string::npos) << r.err;
+}
+
 TEST_F(CliSimulate, BadInputGivesOneLineErrors) {
   const std::string config = write_config("ball.yaml", kTinyBall);
   std::ofstream(path("few.csv")) << "Y,nu,rho,alpha\n1e10,0.3,2500,1\n";

@@ -183,6 +183,30 @@ TEST(Evaluation, StepSearchRefinesUntilTheBaselineAgreesWithItsRigidTwin) {
   EXPECT_EQ(evaluate(scene, mesh, mesh, adv, fixed).step_search.size(), 1u);
 }
 
+// An object whose materials are not moment-matched (here dense on the +x side) starts with its
+// own centre of mass at object.position, in both simulators, not with its centroid there.
+TEST(Evaluation, AdversarialCentreOfMassStartsAtThePosition) {
+  const Scene scene = ball_scene();
+  const TetMesh mesh = make_scene_mesh(scene);
+  MaterialField adv = MaterialField::uniform(mesh.num_tets(), 1e10, 0.3, 2500);
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    double x = 0;
+    for (int k = 0; k < 4; ++k) x += mesh.V(mesh.T(e, k), 0) / 4;
+    adv.rho[e] = x > scene.position.x() ? 11300 : 800;
+  }
+  ASSERT_GT(
+      (compute_moments(mesh, adv.effective_density()).centre_of_mass() - scene.position).norm(),
+      1e-3);
+  EvaluationOptions options;
+  options.time_step = scene.time_step;
+  options.soft_control = false;
+  const Evaluation ev = evaluate(scene, mesh, mesh, adv, options);
+  const double tol = 1e-12 * scene.position.norm();
+  EXPECT_LT((ev.deformable_adversarial.position[0] - scene.position).norm(), tol);
+  EXPECT_LT((ev.rigid_adversarial.position[0] - scene.position).norm(), tol);
+  EXPECT_LT((ev.adversarial_moments.centre_of_mass() - scene.position).norm(), tol);
+}
+
 TEST(Evaluation, MismatchedObjectsAreRejected) {
   const Scene scene = ball_scene();
   const TetMesh mesh = make_scene_mesh(scene);

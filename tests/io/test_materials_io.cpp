@@ -83,6 +83,13 @@ TEST(Materials, OutOfRangeValuesAreRejectedByValidation) {
   EXPECT_NE(msg.find("nu"), std::string::npos) << msg;
 }
 
+TEST(Materials, PoissonRatioOfOneHalfIsRefusedWithTheOpenInterval) {
+  ScratchDir dir;
+  write_text(dir.file("half.csv"), "Y,nu,rho,alpha\n1e10,0.3,2500,1\n1e10,0.5,2500,1\n");
+  EXPECT_EQ(input_error_message([&] { read_materials(dir.file("half.csv"), 2); }),
+            dir.file("half.csv") + ": material field 'nu' of element 1 is 0.5, outside (-1, 0.5)");
+}
+
 TEST(Materials, MshElementDataRoundTrip) {
   ScratchDir dir;
   const TetMesh mesh = test::make_jittered_cube(2);

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "io/io_test_support.hpp"
@@ -291,8 +292,10 @@ std::vector<MalformedCase> malformed_cases() {
       {"short_node_line", replace_line(v, 7, "2 1 0"), 7, "line ends"},
       {"long_node_line", replace_line(v, 7, "2 1 0 0 0"), 7, "unexpected '0'"},
       {"duplicate_node_tag", replace_line(v, 7, "1 1 0 0"), 7, "appears twice"},
-      {"truncated_in_nodes", first_lines(v, 8), 8, "end of file"},
-      {"truncated_in_elements", first_lines(v, 14), 14, "end of file"},
+      {"truncated_in_nodes", first_lines(v, 8), 8,
+       "file ends inside the $Nodes section (expected 5 nodes, read 3)"},
+      {"truncated_in_elements", first_lines(v, 14), 14,
+       "file ends inside the $Elements section (expected 2 elements, read 1)"},
       {"missing_node", replace_line(v, 15, "2 4 2 1 1 2 3 4 6"), 15, "node 6"},
       {"short_tet_line", replace_line(v, 15, "2 4 2 1 1 2 3 4"), 15, "line ends"},
       {"element_count_too_high", replace_line(v, 13, "3"), 16, "after 2 of the 3"},
@@ -305,7 +308,8 @@ std::vector<MalformedCase> malformed_cases() {
       {"data_unknown_element", replace_line(v, 27, "9 6e9"), 27, "element 9"},
       {"data_non_numeric", replace_line(v, 27, "2 six"), 27, "'six'"},
       {"data_vector", replace_line(v, 24, "3"), 24, "3 components"},
-      {"data_truncated", first_lines(v, 26), 26, "end of file"},
+      {"data_truncated", first_lines(v, 26), 26,
+       "file ends inside the $ElementData section (expected 2 values of 'Y', read 1)"},
       {"unterminated_unknown_section", v + "$Comments\nhello\n", 30, "$EndComments"},
       {"stray_end", replace_line(v, 12, "$EndNodes\n$Elements"), 12, "without a matching"},
       {"garbage_between_sections", replace_line(v, 12, "hello\n$Elements"), 12, "section header"},
@@ -325,6 +329,63 @@ TEST(Msh, MalformedFilesGiveFileAndLine) {
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   }
 }
+
+// A file cut anywhere inside an element's line (a copy or download that stopped) is reported as
+// truncated at its last line, whatever the cut leaves: "1" from "16 ..." is no duplicate tag 1,
+// and "16 4 2 1 1 a b c 1" from "... 19" is no element. Cut right after a line break, the
+// elements before the cut count as read.
+class MshTruncated : public ::testing::TestWithParam<MshVersion> {};
+
+TEST_P(MshTruncated, CutInsideAnElementNamesTheFileLineAndCounts) {
+  ScratchDir dir;
+  const TetMesh mesh = test::make_jittered_cube(2);  // 48 tets
+  ASSERT_EQ(mesh.num_tets(), 48);
+  const std::string full_path = dir.file("full.msh");
+  write_msh(full_path, mesh, {{"rho", Eigen::VectorXd::Constant(48, 2500.0)}}, GetParam());
+  const std::string full = test::read_text(full_path);
+  // The line of element 16 in the $Elements section, and its line number.
+  const std::size_t section = full.find("$Elements\n");
+  const std::string tag_prefix = GetParam() == MshVersion::kV22 ? "\n16 4 " : "\n16 ";
+  const std::size_t begin = full.find(tag_prefix, section) + 1;
+  const std::size_t end = full.find('\n', begin);
+  const int line = 1 + static_cast<int>(std::count(full.begin(), full.begin() + begin, '\n'));
+  int cuts = 0;
+  for (std::size_t cut = begin + 1; cut <= end + 1; ++cut) {
+    SCOPED_TRACE("cut after " + std::to_string(cut - begin) + " characters of '" +
+                 full.substr(begin, end - begin) + "'");
+    const std::string path = dir.file("cut.msh");
+    write_text(path, full.substr(0, cut));
+    const std::string msg = input_error_message([&] { read_msh(path); });
+    const bool whole_line = cut == end + 1;
+    const std::string expected =
+        path + ":" + std::to_string(line) + ": file ends inside the $Elements section (expected " +
+        "48 elements, read " + (whole_line ? "16" : "15") + "): the file is truncated";
+    EXPECT_EQ(msg, expected);
+    ++cuts;
+  }
+  EXPECT_GT(cuts, 8);
+  // The same inside the element data and the nodes.
+  const std::size_t data = full.find("\n7 2500\n", full.find("$ElementData")) + 1;
+  write_text(dir.file("data.msh"), full.substr(0, data + 4));
+  const int data_line = 1 + static_cast<int>(std::count(full.begin(), full.begin() + data, '\n'));
+  EXPECT_EQ(input_error_message([&] { read_msh(dir.file("data.msh")); }),
+            dir.file("data.msh") + ":" + std::to_string(data_line) +
+                ": file ends inside the $ElementData section (expected 48 values of 'rho', read "
+                "6): the file is truncated");
+  const std::size_t nodes = full.find("$Nodes\n");
+  const std::size_t node_cut = full.find('\n', full.find('\n', nodes) + 1) + 3;
+  write_text(dir.file("nodes.msh"), full.substr(0, node_cut));
+  const std::string node_msg = input_error_message([&] { read_msh(dir.file("nodes.msh")); });
+  EXPECT_NE(node_msg.find("file ends inside the $Nodes section (expected 27 nodes, read 0)"),
+            std::string::npos)
+      << node_msg;
+}
+
+INSTANTIATE_TEST_SUITE_P(Versions, MshTruncated,
+                         ::testing::Values(MshVersion::kV22, MshVersion::kV41),
+                         [](const auto& info) {
+                           return info.param == MshVersion::kV22 ? "v22" : "v41";
+                         });
 
 TEST(Msh, TheValidBaseOfTheMalformedCasesReads) {
   ScratchDir dir;

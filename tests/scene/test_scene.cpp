@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -61,6 +64,70 @@ TEST(Scene, PlacesTheObjectAtItsInitialPose) {
   const Eigen::Vector3d c = compute_moments(mesh, 1.0).centre_of_mass();
   EXPECT_LT((c - star.position).norm(), 1e-12);
   for (const Plane& p : star.planes) EXPECT_GT((mesh.V * p.normal).minCoeff() - p.offset, star.d_hat);
+}
+
+// The README's object.position is the centre of mass: with a non-uniform material (a materials
+// file, an adversarial .msh) the mesh is moved so that rho alpha V weights put it there.
+TEST(Scene, NonUniformMaterialPutsTheCentreOfMassAtThePosition) {
+  const Scene star = load_scene(kConfigs + "star.yaml");
+  const TetMesh uniform = make_scene_mesh(star);
+  std::srand(7);
+  const Eigen::VectorXd density =
+      (Eigen::VectorXd::Random(uniform.num_tets()).array() * 5000.0 + 6000.0).matrix();
+  const Eigen::Vector3d before = compute_moments(uniform, density).centre_of_mass();
+  std::printf("random density: centre of mass %.3e m from object.position before placing\n",
+              (before - star.position).norm());
+  ASSERT_GT((before - star.position).norm(), 1e-3);  // the defect: millimetres off
+
+  const TetMesh placed = place_centre_of_mass(star, uniform, density, "random.csv");
+  const Eigen::Vector3d c = compute_moments(placed, density).centre_of_mass();
+  EXPECT_LT((c - star.position).norm(), 1e-12 * star.position.norm());
+  // A translation: the shape is unchanged.
+  const Eigen::RowVector3d shift = placed.V.row(0) - uniform.V.row(0);
+  EXPECT_LT((placed.V - (uniform.V.rowwise() + shift)).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_EQ(placed.T, uniform.T);
+
+  // Uniform density (any value): the mesh is returned bit for bit.
+  const TetMesh same = place_centre_of_mass(
+      star, uniform, Eigen::VectorXd::Constant(uniform.num_tets(), 1234.5), "u");
+  EXPECT_EQ(std::memcmp(same.V.data(), uniform.V.data(), sizeof(double) * uniform.V.size()), 0);
+  EXPECT_EQ(same.T, uniform.T);
+
+  // Non-uniform with the uniform object's moments (what an attack produces): its centre of mass
+  // is there already and the mesh is returned bit for bit too, so that its rigid twin's hull is
+  // the reference's.
+  const Eigen::MatrixXd S = moment_operator(uniform);
+  const Eigen::VectorXd r = density - Eigen::VectorXd::Constant(uniform.num_tets(), 2500.0);
+  const Eigen::VectorXd matched = Eigen::VectorXd::Constant(uniform.num_tets(), 2500.0) + r -
+                                  S.transpose() * (S * S.transpose()).ldlt().solve(S * r);
+  const Eigen::Vector3d c_matched = compute_moments(uniform, matched).centre_of_mass();
+  EXPECT_LT((c_matched - star.position).norm(), 1e-12 * star.position.norm());
+  EXPECT_GT((c_matched - star.position).norm(),
+            0.0);  // not exactly there: the check means something
+  const TetMesh kept = place_centre_of_mass(star, uniform, matched, "matched.msh");
+  EXPECT_EQ(std::memcmp(kept.V.data(), uniform.V.data(), sizeof(double) * uniform.V.size()), 0);
+}
+
+TEST(Scene, PlacingTheCentreOfMassIntoAnObstacleIsAnError) {
+  // Heavy elements on the floor side pull the centre of mass down; moving it up to the position
+  // is fine, but a light floor side moves the object into the floor.
+  const Scene cube = load_scene(kConfigs + "cube.yaml", {"object.position=[0, 0, 0.0265]"});
+  const TetMesh mesh = make_scene_mesh(cube);
+  Eigen::VectorXd density(mesh.num_tets());
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    double z = 0;
+    for (int k = 0; k < 4; ++k) z += mesh.V(mesh.T(e, k), 2) / 4;
+    density[e] = z > cube.position.z() ? 11300 : 800;
+  }
+  try {
+    place_centre_of_mass(cube, mesh, density, "heavy_top.csv");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("heavy_top.csv"), std::string::npos) << what;
+    EXPECT_NE(what.find("obstacles.planes[0]"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
 }
 
 TEST(Scene, OverridesApplyBeforeValidation) {

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "mesh_fixtures.hpp"
 #include "rbaa/sim/observables.hpp"
@@ -77,13 +79,62 @@ TEST(Observables, BounceReadsTheSettledOutgoingVelocity) {
   const std::vector<Bounce> b = find_bounces(distances, velocity, {Plane{Eigen::Vector3d::UnitZ(), 0.0}}, 1e-3,
                                              Eigen::Vector3d(0, 0, g), h, 5);
   ASSERT_EQ(b.size(), 1u);
-  EXPECT_TRUE(b[0].complete);
+  EXPECT_EQ(b[0].kind, BounceKind::kBounce);
   // Read 5 steps later: the deviation is 1/3^5 = 0.4 % of its first value; gravity is taken out.
   EXPECT_NEAR(b[0].restitution, 4.0 / 3.0, 1.0 / 243.0 / 3.0 + 1e-12);
   // Reading at the first step after the contact would have given 3/3 = 1.
   const std::vector<Bounce> early = find_bounces(distances, velocity, {Plane{Eigen::Vector3d::UnitZ(), 0.0}}, 1e-3,
                                                  Eigen::Vector3d(0, 0, g), h, 0);
   EXPECT_NEAR(early[0].restitution, 1.0, 1e-12);
+}
+
+// Contact with the floor (steps 3-4) overlapping contact with a wall (steps 4-5): one corner
+// episode, both planes named, no restitution. Measured per plane, the wall's "in" velocity would
+// be read inside the floor contact and the floor's "out" inside the wall contact.
+TEST(Observables, TwoPlanesInOneEpisodeAreACornerWithoutRestitution) {
+  const std::vector<Plane> planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0},
+                                     Plane{Eigen::Vector3d::UnitY(), 0.0}};
+  std::vector<std::vector<double>> distances;
+  std::vector<Eigen::Vector3d> velocity;
+  for (int k = 0; k < 12; ++k) {
+    distances.push_back({(k == 3 || k == 4) ? 5e-4 : 0.1, (k == 4 || k == 5) ? 5e-4 : 0.1});
+    // Tilted into the corner: the floor turns the wall-normal velocity around too.
+    velocity.emplace_back(0, k < 3 ? -1.0 : (k < 6 ? 0.2 : 0.4), k < 3 ? -1.0 : 0.3);
+  }
+  const std::vector<Bounce> b =
+      find_bounces(distances, velocity, planes, 1e-3, Eigen::Vector3d::Zero(), 0.01, 0);
+  ASSERT_EQ(b.size(), 1u);
+  EXPECT_EQ(b[0].kind, BounceKind::kCorner);
+  EXPECT_STREQ(bounce_kind_name(b[0].kind), "corner");
+  EXPECT_EQ(b[0].planes, (std::vector<int>{0, 1}));
+  EXPECT_EQ(b[0].first_step, 3);
+  EXPECT_EQ(b[0].last_step, 5);
+  EXPECT_EQ(b[0].normal_velocity_in, (std::vector<double>{-1.0, -1.0}));
+  EXPECT_EQ(b[0].normal_velocity_out, (std::vector<double>{0.3, 0.4}));
+  EXPECT_TRUE(std::isnan(b[0].restitution));
+  EXPECT_NE(b[0].note.find("planes 0 and 1"), std::string::npos) << b[0].note;
+}
+
+// A one-plane contact whose normal velocity does not reverse (the body grazes the plane and
+// keeps approaching it more slowly, or was already leaving) is no bounce; one still in contact
+// at the end has no outgoing velocity yet.
+TEST(Observables, ContactsWithoutReversalOrEndAreNotBounces) {
+  const std::vector<Plane> floor = {Plane{Eigen::Vector3d::UnitZ(), 0.0}};
+  std::vector<std::vector<double>> distances;
+  std::vector<Eigen::Vector3d> velocity;
+  for (int k = 0; k < 10; ++k) {
+    distances.push_back({(k == 2 || k == 8 || k == 9) ? 5e-4 : 0.1});
+    velocity.emplace_back(0, 0, k < 2 ? -1.0 : -0.43);
+  }
+  const std::vector<Bounce> b =
+      find_bounces(distances, velocity, floor, 1e-3, Eigen::Vector3d::Zero(), 0.01, 0);
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_EQ(b[0].kind, BounceKind::kNoReversal);
+  EXPECT_TRUE(std::isnan(b[0].restitution));
+  EXPECT_NE(b[0].note.find("did not reverse"), std::string::npos) << b[0].note;
+  EXPECT_EQ(b[1].kind, BounceKind::kUnfinished);
+  EXPECT_FALSE(b[1].complete());
+  EXPECT_TRUE(std::isnan(b[1].restitution));
 }
 
 }  // namespace

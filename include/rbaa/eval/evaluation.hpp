@@ -42,11 +42,14 @@ struct RestitutionCalibration {
   bool calibrated = false;      ///< false when the rigid body never bounces off that plane
   int plane = -1;
   double time = 0;                ///< of the baseline's first bounce off the plane (s)
-  double deformable_rebound = 0;  ///< -v_n,out / v_n,in of the baseline's first bounce
+  /// -v_n,out / v_n,in of the baseline's first contact with the plane: a bounce's restitution,
+  /// or, for a corner episode, the ratio along this plane's normal across the episode (a fit
+  /// target for the twin, which meets the same corner; no restitution of the plane alone).
+  double deformable_rebound = 0;
   double rigid_rebound = 0;       ///< the same ratio for the rigid reference, fitted
   double restitution = 1.0;       ///< the plane's Bullet restitution that achieves it
   int iterations = 0;
-  std::vector<double> later_deformable_rebounds;  ///< baseline's later bounces off the plane
+  std::vector<double> later_deformable_rebounds;  ///< restitutions of later one-plane bounces
 };
 
 /// One step tried for the stiff baseline: how far it strays from its calibrated rigid twin.
@@ -105,7 +108,9 @@ struct Evaluation {
 };
 
 /// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's
-/// initial pose; the reference uses the scene's uniform reference material. Throws
+/// initial pose; the reference uses the scene's uniform reference material. The adversarial
+/// object is then translated so that its own centre of mass is at scene.position
+/// (place_centre_of_mass; round-off for an attack's moment-matched object). Throws
 /// rbaa::InputError if the adversarial object's outer surface is not the reference's or its
 /// materials do not fit its mesh.
 Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,

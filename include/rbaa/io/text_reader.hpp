@@ -29,6 +29,9 @@ class TextReader {
   void expect_next_line(const std::string& what);
   /// 1-based number of the current line (the last line once the end is reached).
   int line() const;
+  /// True when the current line is the file's last and no line break ends it, which is how a
+  /// file cut in the middle of a line ends: its content may be a fragment that still parses.
+  bool on_unterminated_last_line() const;
 
   /// True when the current line has another word.
   bool has_word();

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "rbaa/mesh/meshing_outcome.hpp"
 #include "rbaa/mesh/surface.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 
@@ -22,9 +23,11 @@ struct MeshingOptions {
 };
 
 /// Tetrahedralises a closed, outward-oriented surface. The result is validated (positive,
-/// non-degenerate tets); throws rbaa::InputError naming `source` on failure.
+/// non-degenerate tets); throws rbaa::InputError naming `source` on failure. The returned mesh is
+/// the attempt closest to options.target_tets, which a surface's detail may not allow within
+/// options.tolerance: `outcome` (if given) records the search and says why.
 TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options,
-                       const std::string& source);
+                       const std::string& source, MeshingOutcome* outcome = nullptr);
 
 /// Tetrahedralises once at a given cell size (m); used by tetrahedralize's count search.
 TetMesh tetrahedralize_with_size(const SurfaceMesh& surface, double cell_size,
@@ -42,11 +45,13 @@ int default_tet_count(const std::string& shape);
 /// Meshes a reference shape (sphere, cube, star, bat, bunny) with about `target_tets` tets
 /// (default_tet_count when 0). The bunny is CGAL's bunny00.off turned upright
 /// ((x, y, z) <- (z, x, y)), scaled to volume 1.5604 m^3 and centred at its centroid.
-TetMesh mesh_shape(const std::string& shape, int target_tets, const ShapeParameters& params = {});
+TetMesh mesh_shape(const std::string& shape, int target_tets, const ShapeParameters& params = {},
+                   MeshingOutcome* outcome = nullptr);
 
 /// Meshes a closed surface file; with volume > 0 the tet mesh is scaled to that volume and
 /// centred at its centroid.
-TetMesh mesh_surface_file(const std::string& path, int target_tets, double volume = 0.0);
+TetMesh mesh_surface_file(const std::string& path, int target_tets, double volume = 0.0,
+                          MeshingOutcome* outcome = nullptr);
 
 /// Path of CGAL's bunny00.off (RBAA_DATA_DIR, the build tree, or the installed share folder).
 std::string bunny_surface_path();

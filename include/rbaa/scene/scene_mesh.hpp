@@ -1,6 +1,9 @@
 #pragma once
 // The reference object of a scene, meshed (or read) and placed at its initial pose.
 
+#include <Eigen/Core>
+#include <string>
+
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/scene/scene.hpp"
 
@@ -10,7 +13,19 @@ namespace rbaa {
 /// file), rotates it about its centre of mass by the scene's rotation and moves the centre of
 /// mass (at uniform density) to scene.position. Throws rbaa::InputError if the placed object
 /// intersects or touches an obstacle (some vertex with normal . x - offset <= d_hat).
+/// This is the reference placement attacks design on.
 TetMesh make_scene_mesh(const Scene& scene);
+
+/// Translates a placed mesh so that its centre of mass under the per-element density (#T,
+/// kg/m^3, rho alpha: element masses rho alpha V) is at scene.position, which is what
+/// object.position means. make_scene_mesh puts the volume centroid there, which is the centre of
+/// mass only at uniform density; runs of a given non-uniform material (a materials file, an
+/// adversarial .msh) call this. A uniform density, or a centre of mass already within 1e-10 of
+/// the radius of gyration of the position (an attack's moment-matched object), returns the mesh
+/// unchanged, bit for bit.
+/// Throws rbaa::InputError naming `source` if the moved object touches an obstacle.
+TetMesh place_centre_of_mass(const Scene& scene, TetMesh mesh, const Eigen::VectorXd& density,
+                             const std::string& source);
 
 /// The object mesh as produced by the mesh source, before placement (centred as generated).
 TetMesh make_source_mesh(const MeshSource& source, const std::string& scene_source);

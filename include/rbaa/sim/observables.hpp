@@ -4,7 +4,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "rbaa/scene/scene.hpp"
@@ -26,23 +27,42 @@ Eigen::Vector3d angular_momentum(const Eigen::VectorXd& q, const Eigen::VectorXd
 Eigen::Quaterniond best_fit_rotation(const Eigen::VectorXd& rest, const Eigen::VectorXd& q,
                                      const Eigen::VectorXd& vertex_masses);
 
-/// One contact episode with one plane: the run of steps in which some surface vertex is within
-/// d_hat of it. Normal velocities are the centre of mass's along the plane normal, at the last
-/// step before and the first step after the episode.
-struct Bounce {
-  int plane = 0;
-  int first_step = 0;      ///< first position index in contact
-  int last_step = 0;       ///< last position index in contact
-  double normal_velocity_in = 0;
-  double normal_velocity_out = 0;
-  double restitution = 0;  ///< -out / in; NaN while the episode is not over at the end
-  bool complete = false;
+/// What a contact episode was, and so whether it has a restitution.
+enum class BounceKind {
+  kBounce,      ///< one plane, normal velocity reversed (in < 0 < out): restitution = -out / in
+  kCorner,      ///< two or more planes within one episode: no single restitution
+  kNoReversal,  ///< one plane, but the normal velocity did not go from towards it to away
+  kUnfinished,  ///< still in contact at the end of the run
 };
 
-/// Bounces of a trajectory. `distances[k][p]`: minimum distance of the surface to plane p at
-/// position k; `com_velocity[k]`: the centre of mass velocity at position k. The outgoing
-/// velocity is read `settle_steps` steps after the episode (fewer if another contact starts),
-/// minus the gravity of those steps: BDF-2's velocity needs a few steps to settle after a bounce.
+/// "bounce", "corner", "no_reversal", "unfinished" (report.json's names).
+const char* bounce_kind_name(BounceKind kind);
+
+/// One contact episode: a maximal run of positions in which some surface vertex is within d_hat
+/// of some plane. Normal velocities are the centre of mass's along each touched plane's normal,
+/// at the last position before the episode and after it. A restitution -out / in means a bounce
+/// only for a contact with one plane whose normal velocity reversed: in a corner the other
+/// plane's push changes the velocity along this one's normal too (a cube tilted into a corner
+/// read -0.32 on both planes when each plane was measured alone).
+struct Bounce {
+  BounceKind kind = BounceKind::kBounce;
+  std::vector<int> planes;                  ///< touched during the episode, ascending
+  int first_step = 0;                       ///< first position index in contact
+  int last_step = 0;                        ///< last position index in contact
+  std::vector<double> normal_velocity_in;   ///< per entry of `planes` (m/s)
+  std::vector<double> normal_velocity_out;  ///< per entry of `planes` (m/s)
+  /// -out / in for kBounce; NaN for every other kind.
+  double restitution = std::numeric_limits<double>::quiet_NaN();
+  std::string note;  ///< why there is no restitution (empty for kBounce)
+
+  bool complete() const { return kind != BounceKind::kUnfinished; }
+};
+
+/// Contact episodes of a trajectory, in time order. `distances[k][p]`: minimum distance of the
+/// surface to plane p at position k; `com_velocity[k]`: the centre of mass velocity at position
+/// k. The outgoing velocity is read `settle_steps` steps after the episode (fewer if another
+/// contact starts), minus the gravity of those steps: BDF-2's velocity needs a few steps to
+/// settle after a bounce.
 std::vector<Bounce> find_bounces(const std::vector<std::vector<double>>& distances,
                                  const std::vector<Eigen::Vector3d>& com_velocity,
                                  const std::vector<Plane>& planes, double d_hat,
