@@ -2,6 +2,7 @@
 
 #include <gflags/gflags.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <utility>
@@ -59,6 +60,21 @@ int run_simulate() {
   std::fprintf(stderr, "%d steps in %.2f s (kappa %.4g%s); outputs in %s\n",
                run.trajectory.num_steps(), run.simulate_seconds, run.settings.kappa,
                run.kappa_from_rule ? ", energy rule" : "", FLAGS_out.c_str());
+  int floor_steps = 0;
+  double floor_velocity = 0;
+  for (const rbaa::StepStats& s : run.trajectory.steps) {
+    if (!s.roundoff_limited) continue;
+    ++floor_steps;
+    floor_velocity = std::max(floor_velocity, s.floor_velocity);
+  }
+  if (floor_steps > 0) {
+    std::fprintf(stderr,
+                 "note: Newton stopped in %d steps at its round-off floor (no progress for 10 "
+                 "iterations; slowest step up to %.3g m/s) above newton.tolerance = %g x the "
+                 "bounding-box diagonal per s: that tolerance is below what double precision "
+                 "resolves there\n",
+                 floor_steps, floor_velocity, run.settings.newton_tolerance);
+  }
   for (const rbaa::Bounce& b : run.bounces) {
     const double t = b.first_step * scene.time_step;
     if (b.kind == rbaa::BounceKind::kBounce) {

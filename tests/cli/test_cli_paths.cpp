@@ -117,4 +117,25 @@ TEST_F(CliPaths, CubeConfigTouchesBothPlanes) {
   EXPECT_GT(report["min_contact_distance"].get<double>(), 0.0);
 }
 
+// A Newton tolerance below what round-off resolves is detected and said, not iterated: the star
+// at newton.tolerance 1e-12 (2.6e-12 m/s) used to fail step 7 after 100 iterations whose steps
+// wandered between 2.8e-12 and 2.5e-10 m/s; the default tolerance never reaches the floor.
+TEST_F(CliPaths, ToleranceBelowRoundOffIsDetectedAndSaid) {
+  const std::string star = "simulate --config=" RBAA_SOURCE_DIR "/configs/star.yaml --progress=false --vtu_every=0 ";
+  const Result tight = run(star + "--set=newton.tolerance=1e-12 --out=" + path("tight"));
+  ASSERT_EQ(tight.exit_code, 0) << tight.err;
+  EXPECT_NE(tight.err.find("round-off floor"), std::string::npos) << tight.err;
+  std::ifstream in(path("tight/report.json"));
+  const auto newton = nlohmann::json::parse(in)["newton"];
+  EXPECT_GT(newton["steps_stopped_at_roundoff_floor"].get<int>(), 0);
+  EXPECT_LT(newton["roundoff_floor_m_per_s"].get<double>(), 1e-9);
+  for (const auto& it : newton["iterations_per_step"]) EXPECT_LT(it.get<int>(), 100);
+
+  const Result plain = run(star + "--out=" + path("plain"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(plain.err.find("round-off floor"), std::string::npos) << plain.err;
+  std::ifstream in2(path("plain/report.json"));
+  EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["steps_stopped_at_roundoff_floor"].get<int>(), 0);
+}
+
 }  // namespace

@@ -43,6 +43,12 @@ struct NewtonResult {
   int line_search_halvings = 0;   ///< summed over the iterations
   int ccd_limited_steps = 0;      ///< steps shortened by the forms' max_step_size
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
+  /// Stopped above the tolerance at the round-off floor: kFloorWindow steps in a row, all below
+  /// kFloorFactor x tolerance, none smaller than the smallest step before them (no
+  /// progress at all, only noise). step_velocity is then the floor's latest step and
+  /// floor_velocity the slowest step seen.
+  bool roundoff_limited = false;
+  double floor_velocity = 0;
   // Where the time went (wall seconds, summed over the iterations).
   double gradient_seconds = 0;       ///< energy gradients
   double assembly_seconds = 0;       ///< Hessian assembly (element Hessians, projection, sums)
