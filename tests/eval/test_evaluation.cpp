@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <unistd.h>
 
@@ -109,6 +110,21 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   EXPECT_DOUBLE_EQ(report["calibration"][0]["restitution"].get<double>(), cal.restitution);
   EXPECT_DOUBLE_EQ(report["soft_control"]["vs_baseline"]["com_gap_m"].get<double>(), ev.soft_vs_deformable.position_gap);
   EXPECT_DOUBLE_EQ(report["adversarial_vs_rigid"]["com_gap_m"].get<double>(), ev.adversarial_vs_rigid.position_gap);
+  // The summary's prose carries the same figures as report.json: the baseline's disagreement in
+  // percent of its path.
+  {
+    const std::string summary = [&] {
+      std::ifstream md(dir + "/summary.md");
+      std::stringstream ss;
+      ss << md.rdbuf();
+      return ss.str();
+    }();
+    const std::string lead = "The baseline strays from the rigid reference by at most ";
+    const std::size_t at = summary.find(lead);
+    ASSERT_NE(at, std::string::npos) << summary;
+    const double percent = std::stod(summary.substr(at + lead.size()));
+    EXPECT_NEAR(percent, 100 * ev.baseline_disagreement, 1e-2 * 100 * ev.baseline_disagreement + 1e-12);
+  }
   for (const char* f : {"summary.md", "rigid_reference.csv", "rigid_adversarial.csv", "deformable_reference.csv",
                         "deformable_adversarial.csv", "deformable_soft_uniform.csv", "paths.gp"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;

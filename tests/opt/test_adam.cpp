@@ -108,6 +108,20 @@ TEST(Adam, RejectsBadInput) {
   AdamOptions o;
   o.beta2 = 1.0;
   EXPECT_THROW(Adam{o}, InputError);
+  // The ranges are [0, 1) for both betas: 0 (no averaging) is allowed, 1 and negatives are not.
+  AdamOptions zero;
+  zero.beta1 = 0.0;
+  zero.beta2 = 0.0;
+  EXPECT_NO_THROW(Adam{zero});
+  AdamOptions one;
+  one.beta1 = 1.0;
+  EXPECT_THROW(Adam{one}, InputError);
+  AdamOptions negative;
+  negative.beta1 = -0.1;
+  EXPECT_THROW(Adam{negative}, InputError);
+  AdamOptions no_rate;
+  no_rate.learning_rate = 0.0;
+  EXPECT_THROW(Adam{no_rate}, InputError);
   Adam adam;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(2);
   EXPECT_THROW(adam.step(x, Eigen::VectorXd::Zero(3)), InputError);

@@ -32,6 +32,7 @@ TEST(Occupancy, RoundingKeepsTheBoundaryAndUsesTheThreshold) {
     }
   }
   EXPECT_THROW(round_occupancy(alpha, boundary, 1.0), InputError);
+  EXPECT_THROW(round_occupancy(alpha, boundary, 0.0), InputError);  // the range is open: (0, 1)
 }
 
 // Void inside, except the shell (`boundary`) and four solid one-cell islands.

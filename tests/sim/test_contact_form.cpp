@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "form_checks.hpp"
 #include "mesh_fixtures.hpp"
@@ -97,6 +98,14 @@ TEST(ContactForm, DerivativesMatchFiniteDifferences) {
   EXPECT_LT(t, 1.0);
   EXPECT_GT(form.min_distance(q + t * (down - q)), 0.0);
   EXPECT_FALSE(form.is_step_valid(q, down));
+  // A vertex exactly on a plane (d = 0) is as inadmissible as one beyond it: infinite energy.
+  Eigen::VectorXd touching = q;
+  int lowest = 0;
+  for (int v = 1; v < mesh.num_vertices(); ++v) {
+    if (q[3 * v + 2] < q[3 * lowest + 2]) lowest = v;
+  }
+  touching[3 * lowest + 2] = 0.0;
+  EXPECT_EQ(form.value_difference(q, touching), std::numeric_limits<double>::infinity());
 }
 
 TEST(InertiaAndGravityForms, DerivativesMatchFiniteDifferences) {
