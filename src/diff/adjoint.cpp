@@ -37,19 +37,7 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
   const int N = traj.num_steps();
   const int ndof = sim.num_dofs();
   const int nt = sim.rest_mesh().num_tets();
-  if (static_cast<int>(traj.q.size()) != N + 1 || traj.history.size() != 3) {
-    throw InputError("adjoint: the trajectory does not hold N + 1 positions and 3 history ones");
-  }
-  if (traj.integrator != sim.settings().integrator || traj.time_step != sim.settings().time_step) {
-    throw InputError("adjoint: the trajectory was not produced with the simulator's integrator and h");
-  }
-  if (static_cast<int>(seed.dq.size()) != N + 1) {
-    std::ostringstream msg;
-    msg << "adjoint: the seed has " << seed.dq.size() << " position entries, the trajectory "
-        << N + 1;
-    throw InputError(msg.str());
-  }
-  validate_material_field(materials, nt, "adjoint materials");
+  check_linearisation_inputs(sim, materials, traj, seed, "adjoint");
 
   PositionAdjoints adj;
   adj.qbar.assign(N + 4, Eigen::VectorXd::Zero(ndof));
@@ -175,6 +163,24 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
 }
 
 }  // namespace
+
+void check_linearisation_inputs(const Simulator& sim, const MaterialField& materials,
+                                const Trajectory& traj, const TrajectorySeed& seed,
+                                const std::string& who) {
+  const int N = traj.num_steps();
+  if (static_cast<int>(traj.q.size()) != N + 1 || traj.history.size() != 3) {
+    throw InputError(who + ": the trajectory does not hold N + 1 positions and 3 history ones");
+  }
+  if (traj.integrator != sim.settings().integrator || traj.time_step != sim.settings().time_step) {
+    throw InputError(who + ": the trajectory was not produced with the simulator's integrator and h");
+  }
+  if (static_cast<int>(seed.dq.size()) != N + 1) {
+    std::ostringstream msg;
+    msg << who << ": the seed has " << seed.dq.size() << " position entries, the trajectory " << N + 1;
+    throw InputError(msg.str());
+  }
+  validate_material_field(materials, sim.rest_mesh().num_tets(), who + " materials");
+}
 
 const char* factor_storage_name(FactorStorage storage) {
   return storage == FactorStorage::kStore ? "store" : "rebuild";

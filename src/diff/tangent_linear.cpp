@@ -87,16 +87,7 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
   const int N = traj.num_steps();
   const int ndof = sim.num_dofs();
   const int nt = sim.rest_mesh().num_tets();
-  if (static_cast<int>(traj.q.size()) != N + 1 || traj.history.size() != 3) {
-    throw InputError("tangent: the trajectory does not hold N + 1 positions and 3 history ones");
-  }
-  if (traj.integrator != sim.settings().integrator || traj.time_step != sim.settings().time_step) {
-    throw InputError("tangent: the trajectory was not produced with the simulator's integrator and h");
-  }
-  if (static_cast<int>(seed.dq.size()) != N + 1) {
-    throw InputError("tangent: the seed does not hold N + 1 position entries");
-  }
-  validate_material_field(materials, nt, "tangent materials");
+  check_linearisation_inputs(sim, materials, traj, seed, "tangent");
   for (const TangentDirection& d : directions) {
     check_size(d.materials.Y, nt, "a direction's Y");
     check_size(d.materials.nu, nt, "a direction's nu");

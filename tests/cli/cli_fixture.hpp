@@ -21,6 +21,14 @@ struct Result {
   std::string err;  // stderr
 };
 
+/// A ~300-tet ball meeting a wall at 2 m/s without gravity: five steps of 0.01 s.
+inline const char* const kTinyBall =
+    "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
+    "object: {position: [0, -0.13, 0.5], velocity: [0, 2.0, 0]}\n"
+    "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
+    "gravity: off\n"
+    "time: {step: 0.01, duration: 0.05}\n";
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -46,6 +54,12 @@ class Cli : public ::testing::Test {
   }
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  /// Writes `text` to `name` in the test's folder and returns its path.
+  std::string write_file(const std::string& name, const std::string& text) {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
 
   static std::string slurp(const std::string& file) {
     std::ifstream in(file, std::ios::binary);

@@ -18,19 +18,11 @@ namespace {
 using rbaa_cli_test::Cli;
 using rbaa_cli_test::Result;
 
-const char* kTinyBall =
-    "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
-    "object: {position: [0, -0.13, 0.5], velocity: [0, 2.0, 0]}\n"
-    "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
-    "gravity: off\n"
-    "time: {step: 0.01, duration: 0.05}\n";
+using rbaa_cli_test::kTinyBall;
 
 class CliPaths : public Cli {
  protected:
-  std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(path(name)) << text;
-    return path(name);
-  }
+  std::string write(const std::string& name, const std::string& text) { return write_file(name, text); }
 };
 
 TEST_F(CliPaths, FlagfileAndNewtonLog) {

@@ -19,18 +19,12 @@ namespace {
 using rbaa_cli_test::Cli;
 using rbaa_cli_test::Result;
 
-const char* kTinyBall =
-    "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
-    "object: {position: [0, -0.13, 0.5], velocity: [0, 2.0, 0]}\n"
-    "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
-    "gravity: off\n"
-    "time: {step: 0.01, duration: 0.05}\n";
+using rbaa_cli_test::kTinyBall;
 
 class CliSimulate : public Cli {
  protected:
   std::string write_config(const std::string& name, const std::string& text) {
-    std::ofstream(path(name)) << text;
-    return path(name);
+    return write_file(name, text);
   }
 };
 

@@ -122,18 +122,32 @@ TEST(TangentLinear, RandomMaterialsWithNearVoidElements) {
   EXPECT_LE(r.max_tangent_relative_error, kTangentBar);
 }
 
+// The thrown test ball (1e9 Pa) run once, with the undirected objective's seed against a
+// stiffer reference run: what the adjoint and the tangent both consume.
+struct ThrownBallRun {
+  test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);
+  MaterialField m = MaterialField::uniform(b.mesh.num_tets(), 1e9, 0.3, 2500);
+  Simulator sim{b.mesh, m, b.settings};
+  Trajectory t;
+  TrajectorySeed seed;
+
+  ThrownBallRun() {
+    t = sim.run(b.q0, b.v0);
+    Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
+    UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, ref.run(b.q0, b.v0).q.back())
+        ->evaluate(t, m, &seed);
+  }
+};
+
 // dC/dq_0 and dC/dv_0 (through the steps and the ballistic history) against tangents along
 // random initial-state directions.
 TEST(TangentLinear, InitialStateDirectionsMatchTheAdjoint) {
-  const test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);
-  const MaterialField m = MaterialField::uniform(b.mesh.num_tets(), 1e9, 0.3, 2500);
-  Simulator sim(b.mesh, m, b.settings);
-  const Trajectory t = sim.run(b.q0, b.v0);
-  Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
-  const auto objective =
-      UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, ref.run(b.q0, b.v0).q.back());
-  TrajectorySeed seed;
-  objective->evaluate(t, m, &seed);
+  ThrownBallRun run;
+  const test::ThrownBall& b = run.b;
+  const MaterialField& m = run.m;
+  Simulator& sim = run.sim;
+  const Trajectory& t = run.t;
+  const TrajectorySeed& seed = run.seed;
   const AdjointResult a = adjoint_gradient(sim, m, t, seed);
 
   std::mt19937_64 rng(3);
@@ -158,15 +172,12 @@ TEST(TangentLinear, InitialStateDirectionsMatchTheAdjoint) {
 // A wrong adjoint term in one element (its dC/dY off by 1e-6 relative of the gradient) is caught
 // by the tangent along a direction through that element, far above round-off.
 TEST(TangentLinear, CatchesAWrongAdjointTerm) {
-  const test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);
-  const MaterialField m = MaterialField::uniform(b.mesh.num_tets(), 1e9, 0.3, 2500);
-  Simulator sim(b.mesh, m, b.settings);
-  const Trajectory t = sim.run(b.q0, b.v0);
-  Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
-  const auto objective =
-      UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, ref.run(b.q0, b.v0).q.back());
-  TrajectorySeed seed;
-  objective->evaluate(t, m, &seed);
+  ThrownBallRun run;
+  const test::ThrownBall& b = run.b;
+  const MaterialField& m = run.m;
+  Simulator& sim = run.sim;
+  const Trajectory& t = run.t;
+  const TrajectorySeed& seed = run.seed;
   AdjointResult a = adjoint_gradient(sim, m, t, seed);
 
   TangentDirection d;

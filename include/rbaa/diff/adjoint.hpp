@@ -29,6 +29,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rbaa/diff/cholmod_factor.hpp"
@@ -77,6 +78,13 @@ struct AdjointResult {
   Eigen::VectorXd dv0;         ///< dC/dv_0 (3 #V), through the ballistic history
   AdjointStats stats;
 };
+
+/// Throws rbaa::InputError (messages starting with `who`) unless `trajectory` holds N + 1
+/// positions and the 3 history ones, was produced with sim's integrator and h, `seed` has N + 1
+/// position entries and `materials` fits the mesh: what the adjoint and the tangent both need.
+void check_linearisation_inputs(const Simulator& sim, const MaterialField& materials,
+                                const Trajectory& trajectory, const TrajectorySeed& seed,
+                                const std::string& who);
 
 /// A simulator whose runs can be differentiated: forward() records what backward() needs.
 /// Not thread-safe; the simulator must not be used by others between forward and backward.
