@@ -35,6 +35,42 @@ void print_verb_help(const rbaa::cli::Verb& verb) {
   }
 }
 
+/// gflags keeps only the last value of a repeated flag, so `--set=a=1 --set=b=2` would silently
+/// drop `a=1`. Repeated `--set` (as `--set=V`, `-set=V` or `--set V`) are merged here, in order,
+/// into one `--set=V1;V2` at the first one's place, as users of such flags expect. A `--set` read
+/// from a --flagfile is gflags' own: the last one given wins there.
+void merge_set_flags(std::vector<char*>& args, std::string& storage) {
+  std::vector<std::string> values;
+  size_t first = 0;
+  for (size_t i = 1; i < args.size();) {
+    const std::string arg = args[i];
+    std::string value;
+    size_t taken = 0;
+    for (const char* prefix : {"--set=", "-set="}) {
+      if (arg.rfind(prefix, 0) == 0) {
+        value = arg.substr(std::strlen(prefix));
+        taken = 1;
+      }
+    }
+    if (!taken && (arg == "--set" || arg == "-set") && i + 1 < args.size()) {
+      value = args[i + 1];
+      taken = 2;
+    }
+    if (!taken) {
+      ++i;
+      continue;
+    }
+    if (values.empty()) first = i;
+    values.push_back(value);
+    args.erase(args.begin() + static_cast<std::ptrdiff_t>(i),
+               args.begin() + static_cast<std::ptrdiff_t>(i + taken));
+  }
+  if (values.empty()) return;
+  storage = "--set=";
+  for (size_t k = 0; k < values.size(); ++k) storage += (k ? ";" : "") + values[k];
+  args.insert(args.begin() + static_cast<std::ptrdiff_t>(first), storage.data());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -57,6 +93,8 @@ int main(int argc, char** argv) {
       ++it;
     }
   }
+  std::string merged_set;
+  merge_set_flags(args, merged_set);
   int new_argc = static_cast<int>(args.size());
   char** new_argv = args.data();
   gflags::ParseCommandLineFlags(&new_argc, &new_argv, true);

@@ -8,7 +8,8 @@
 
 DEFINE_string(config, "", "scene config (YAML), e.g. configs/ball.yaml");
 DEFINE_string(set, "", "override config values: key.path=value[;key.path=value...], "
-                       "e.g. --set='time.step=0.005;attack.iterations=10'");
+                       "e.g. --set='time.step=0.005;attack.iterations=10'; repeatable, in order: "
+                       "--set=time.step=0.005 --set=attack.iterations=10");
 
 namespace rbaa::cli {
 

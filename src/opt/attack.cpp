@@ -271,8 +271,20 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   if (r.loop.failed_theta.size() > 0) r.failed = design.to_material(r.loop.failed_theta);
   r.continuous_max_residual = moments.residuals(r.loop.theta).cwiseAbs().maxCoeff();
 
+  // The optimised design is written before post-processing, which can fail (a density re-fit that
+  // cannot match the moments with the rounded occupancy): hours of iterations are never lost to it.
+  std::string continuous_path;
+  if (!options.out_dir.empty()) {
+    continuous_path = options.out_dir + "/continuous.msh";
+    write_tet_mesh(continuous_path, r.mesh, material_element_data(r.continuous));
+  }
   stage("post-processing: rounding, connectivity, density re-fit");
-  r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold);
+  try {
+    r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold);
+  } catch (const SolverError& e) {
+    if (continuous_path.empty()) throw;
+    throw SolverError(std::string(e.what()) + "; the optimised continuous design is kept in " + continuous_path);
+  }
 
   stage("simulating the post-processed object");
   const FinalGap post_gap = measure_solid(r.mesh, reference_element_masses, q_ref, ref_com, r.post.solid, settings, scene);

@@ -46,6 +46,14 @@ TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
   ASSERT_EQ(shorter.exit_code, 0) << shorter.err;
   std::ifstream in2(path("sim2/report.json"));
   EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["iterations_per_step"].size(), 2u);
+  // Repeated --set flags all apply, in order (gflags alone would keep only the last): 0.02 s at
+  // 0.005 s is four steps, and of two values for one key the later wins.
+  const Result both = run("simulate --config=" + config +
+                          " --set=time.duration=0.03 --set time.step=0.005 -set=time.duration=0.02"
+                          " --vtu_every=0 --out=" + path("sim3"));
+  ASSERT_EQ(both.exit_code, 0) << both.err;
+  std::ifstream in3(path("sim3/report.json"));
+  EXPECT_EQ(nlohmann::json::parse(in3)["newton"]["iterations_per_step"].size(), 4u);
 }
 
 // object.position is the centre of mass (README): a materials file with non-uniform density moves

@@ -1,0 +1,136 @@
+// `rbaa attack` when something goes wrong in the middle of a run, seen as a user sees it: the loop
+// stopped early by a simulation that does not converge (report.json says so, the failing design is
+// written and reproduces the failure, a resume with a higher limit finishes the run), and a
+// post-process that fails after the loop (the optimised design is kept on disk and the error
+// says where).
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/cli_fixture.hpp"
+#include "rbaa/io/tet_mesh_file.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
+
+namespace {
+
+using rbaa_cli_test::Cli;
+using rbaa_cli_test::Result;
+
+// The tiny ball at 10 m/s: its contact step needs ~14 Newton iterations, and a few Adam
+// iterations change the design enough that its contact step needs one or two more.
+const char* const kFastTinyBall =
+    "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
+    "object: {position: [0, -0.13, 0.5], velocity: [0, 10.0, 0]}\n"
+    "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
+    "gravity: off\n"
+    "time: {step: 0.01, duration: 0.05}\n";
+
+class CliAttackOutcomes : public Cli {
+ protected:
+  nlohmann::json report(const std::string& dir) {
+    std::ifstream in(path(dir + "/report.json"));
+    return nlohmann::json::parse(in);
+  }
+  /// The most Newton iterations any step of `rbaa simulate` needs (materials: "" = reference).
+  int max_newton_iterations(const std::string& config, const std::string& materials, const std::string& dir) {
+    const Result r = run("simulate --config=" + config + (materials.empty() ? "" : " --materials=" + materials) +
+                         " --vtu_every=0 --progress=false --out=" + path(dir));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    if (r.exit_code != 0) return -1;
+    const auto its = report(dir)["newton"]["iterations_per_step"].get<std::vector<int>>();
+    return *std::max_element(its.begin(), its.end());
+  }
+};
+
+TEST_F(CliAttackOutcomes, StoppedEarlyWritesTheFailedDesignAndResumes) {
+  const std::string config = write_file("fast.yaml", kFastTinyBall);
+  // The Newton iterations of the reference and of the designs after k Adam iterations (the
+  // continuous.msh of an attack run with --iterations=k is design k). The limit is chosen from
+  // these counts, not hard-coded, so that another machine's rounding cannot make the test vacuous.
+  const int reference = max_newton_iterations(config, "", "ref");
+  ASSERT_GT(reference, 1);
+  int limit = reference, failing = -1;
+  for (int k = 0; k <= 6 && failing < 0; ++k) {
+    const std::string dir = "k" + std::to_string(k);
+    const Result a = run("attack --config=" + config + " --iterations=" + std::to_string(k) + " --out=" + path(dir));
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    const int n = max_newton_iterations(config, path(dir + "/continuous.msh"), dir + "_sim");
+    if (n > limit && k > 0) failing = k;
+    else limit = std::max(limit, n);
+  }
+  ASSERT_GT(failing, 0) << "no design within 6 Adam iterations needed more Newton iterations than " << limit;
+
+  // With newton.max_iterations = limit, the reference and designs 0 .. failing-1 simulate and
+  // design `failing` does not: the loop stops there and keeps design failing-1.
+  const std::string set = " --set=newton.max_iterations=" + std::to_string(limit);
+  const Result stopped = run("attack --config=" + config + " --iterations=10 --out=" + path("s") + set);
+  ASSERT_EQ(stopped.exit_code, 0) << stopped.err;
+  EXPECT_NE(stopped.err.find("stopped early"), std::string::npos) << stopped.err;
+  const auto j = report("s");
+  ASSERT_TRUE(j["stopped_early"].is_string()) << j.dump(2);
+  const std::string why = j["stopped_early"].get<std::string>();
+  EXPECT_NE(why.find("did not converge in " + std::to_string(limit) + " iterations"), std::string::npos) << why;
+  EXPECT_EQ(j["iterations"].get<int>(), failing);
+  // The kept design is the last that simulated, design failing-1, bit for bit.
+  const rbaa::TetMeshFile kept = rbaa::read_tet_mesh(path("s/continuous.msh"));
+  const rbaa::TetMeshFile before = rbaa::read_tet_mesh(path("k" + std::to_string(failing - 1) + "/continuous.msh"));
+  ASSERT_EQ(kept.element_data.count("Y"), 1u);
+  for (const char* field : {"Y", "nu", "rho", "alpha"}) {
+    EXPECT_EQ(kept.element_data.at(field), before.element_data.at(field)) << field;
+  }
+  // The failing design is written, is design `failing`, and reproduces the failure in
+  // `rbaa simulate`; with the default limit it simulates.
+  ASSERT_TRUE(std::filesystem::exists(path("s/failed_design.msh")));
+  const rbaa::TetMeshFile failed = rbaa::read_tet_mesh(path("s/failed_design.msh"));
+  const rbaa::TetMeshFile design = rbaa::read_tet_mesh(path("k" + std::to_string(failing) + "/continuous.msh"));
+  for (const char* field : {"Y", "nu", "rho", "alpha"}) {
+    EXPECT_EQ(failed.element_data.at(field), design.element_data.at(field)) << field;
+  }
+  expect_failure("simulate --config=" + config + " --materials=" + path("s/failed_design.msh") + set +
+                     " --vtu_every=0 --progress=false --out=" + path("f"),
+                 "did not converge");
+  EXPECT_GT(max_newton_iterations(config, path("s/failed_design.msh"), "f2"), limit);
+
+  // A resume with a higher limit goes on past the failing design and finishes the run.
+  const Result resumed = run("attack --config=" + config + " --iterations=" + std::to_string(failing + 2) +
+                             " --resume --set=newton.max_iterations=100 --out=" + path("s"));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const auto done = report("s");
+  EXPECT_TRUE(done["stopped_early"].is_null()) << done.dump(2);
+  EXPECT_EQ(done["iterations"].get<int>(), failing + 2);
+}
+
+// A post-process that cannot succeed: all interior elements start at alpha0 = 0.3 and round to
+// void at threshold 0.9, and the shell alone cannot carry the reference's mass within the density
+// bounds. The error says why and where the optimised design is, and that design is on disk.
+TEST_F(CliAttackOutcomes, FailedPostProcessKeepsTheOptimisedDesign) {
+  const std::string config = write_file(
+      "void.yaml", std::string(rbaa_cli_test::kTinyBall) +
+                       "reference_material: {Y: 1.0e11, nu: 0.3, rho: 2500}\n"
+                       "material_bounds: {rho: [2490, 8400]}\n"
+                       "attack: {iterations: 1, alpha0: 0.3, round_threshold: 0.9}\n");
+  const Result r = run("attack --config=" + config + " --out=" + path("a"));
+  EXPECT_NE(r.exit_code, 0);
+  std::string last;
+  std::istringstream lines(r.err);
+  for (std::string line; std::getline(lines, line);) last = line;
+  EXPECT_NE(last.find("density re-fit"), std::string::npos) << r.err;
+  EXPECT_NE(last.find("kept in " + path("a") + "/continuous.msh"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("a/report.json")));
+  const rbaa::TetMeshFile design = rbaa::read_tet_mesh(path("a/continuous.msh"));
+  ASSERT_EQ(design.element_data.count("alpha"), 1u);
+  EXPECT_GT(design.mesh.num_tets(), 0);
+  // It is a design `rbaa simulate` runs.
+  const Result sim = run("simulate --config=" + config + " --materials=" + path("a/continuous.msh") +
+                         " --vtu_every=0 --progress=false --out=" + path("sim"));
+  EXPECT_EQ(sim.exit_code, 0) << sim.err;
+}
+
+}  // namespace
