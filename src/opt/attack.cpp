@@ -168,12 +168,21 @@ void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, c
 
   SolidObject polished = solid;
   polished.materials = design.to_material(r.polish.theta);
-  // The retraction leaves the moments about the reference centre matched to ~1e-12; the re-fit
-  // brings those about the origin within the post-process's tolerance as well.
-  polished.materials.rho = refit_density(polished.mesh, polished.materials.alpha, polished.materials.rho,
-                                         r.reference_moments, design.map(DesignField::kRho)).rho;
-  stage("simulating the polished object");
-  const FinalGap g = measure_solid(r.mesh, reference_element_masses, q_ref, ref_com, polished, settings, scene);
+  FinalGap g;
+  try {
+    // The retraction leaves the moments about the reference centre matched to ~1e-12; the re-fit
+    // brings those about the origin within the post-process's tolerance as well.
+    polished.materials.rho = refit_density(polished.mesh, polished.materials.alpha, polished.materials.rho,
+                                           r.reference_moments, design.map(DesignField::kRho)).rho;
+    stage("simulating the polished object");
+    g = measure_solid(r.mesh, reference_element_masses, q_ref, ref_com, polished, settings, scene);
+  } catch (const SolverError& e) {
+    // The polish's last design is simulated only here, after its re-fit: if either fails, the
+    // post-processed object stays the result instead of the whole attack failing at its end.
+    r.polish_failure = e.what();
+    stage("the polished object failed, keeping the post-processed object: " + r.polish_failure);
+    return;
+  }
   r.polish_gap = g.gap;
   r.polish_kept = g.gap > r.gap_post_processed;
   if (r.polish_kept) {
@@ -354,8 +363,10 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
                {"com_final", r.com_gap_final}, {"post_processed", r.gap_post_processed},
                {"com_post_processed", r.com_gap_post_processed}}},
       {"polish", {{"iterations", static_cast<int>(r.polish.progress.size())},
-                  {"gap", r.polish.progress.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.polish_gap)},
+                  {"gap", r.polish.progress.empty() || !r.polish_failure.empty() ? nlohmann::json(nullptr)
+                                                                       : nlohmann::json(r.polish_gap)},
                   {"kept", r.polish_kept},
+                  {"failed", r.polish_failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.polish_failure)},
                   {"stopped_early", r.polish.stopped_early.empty() ? nlohmann::json(nullptr)
                                                                    : nlohmann::json(r.polish.stopped_early)}}},
       {"objective", {{"initial", r.objective_initial}, {"final", r.objective_final}}},

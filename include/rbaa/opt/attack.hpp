@@ -48,6 +48,9 @@ struct AttackResult {
   AttackLoopResult polish;
   double polish_gap = 0;     ///< gap of the polished object (m), whether kept or not
   bool polish_kept = false;  ///< the polished object beat the post-processed one and is the result
+  /// Why the polished object could not be measured (its re-fit or its simulation failed): then it
+  /// is not kept and polish_gap stays 0. Empty when it was measured.
+  std::string polish_failure;
   double gap_initial = 0, gap_continuous = 0, gap_final = 0;          ///< m
   double com_gap_initial = 0, com_gap_continuous = 0, com_gap_final = 0;  ///< m
   double gap_post_processed = 0, com_gap_post_processed = 0;          ///< before polishing (m)
