@@ -166,7 +166,10 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
     }
     dmin = std::min(dmin, s.min_distance);
   }
-  r["newton"] = {{"tolerance_m_per_s", run.settings.newton_tolerance},
+  // newton.tolerance is relative: Newton stops when ||dq||_inf / h is below it times the rest
+  // mesh's bounding-box diagonal (m/s); both are reported.
+  r["newton"] = {{"tolerance", run.settings.newton_tolerance},
+                 {"tolerance_m_per_s", run.settings.newton_tolerance * bounding_box_diagonal(run.mesh)},
                  {"max_iterations", run.settings.newton_max_iterations},
                  {"iterations_per_step", iterations},
                  {"total_iterations", total},

@@ -79,6 +79,14 @@ TEST_F(CliAttackOutcomes, StoppedEarlyWritesTheFailedDesignAndResumes) {
   const std::string why = j["stopped_early"].get<std::string>();
   EXPECT_NE(why.find("did not converge in " + std::to_string(limit) + " iterations"), std::string::npos) << why;
   EXPECT_EQ(j["iterations"].get<int>(), failing);
+  // The tolerance in the message is the one `rbaa simulate` reports in m/s (newton.tolerance is
+  // relative to the bounding-box diagonal), to the message's 6 digits.
+  const auto ref_newton = report("ref")["newton"];
+  const size_t at = why.find("tolerance ");
+  ASSERT_NE(at, std::string::npos) << why;
+  const double tolerance = std::stod(why.substr(at + 10));
+  EXPECT_NEAR(tolerance, ref_newton["tolerance_m_per_s"].get<double>(), 1e-5 * tolerance);
+  EXPECT_LT(ref_newton["tolerance_m_per_s"].get<double>(), ref_newton["tolerance"].get<double>());
   // The kept design is the last that simulated, design failing-1, bit for bit.
   const rbaa::TetMeshFile kept = rbaa::read_tet_mesh(path("s/continuous.msh"));
   const rbaa::TetMeshFile before = rbaa::read_tet_mesh(path("k" + std::to_string(failing - 1) + "/continuous.msh"));
