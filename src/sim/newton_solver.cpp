@@ -49,10 +49,25 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
   double best_velocity = std::numeric_limits<double>::infinity();
   int stalled = 0;
 
+  const Eigen::SparseMatrix<double>* H_last = nullptr;
   for (int it = 0; it < settings_.max_iterations; ++it) {
     Clock::time_point t0 = Clock::now();
-    const Eigen::VectorXd g = E.gradient(x);
+    Eigen::VectorXd g = E.gradient(x);
     lap(t0, result.gradient_seconds);
+    // The sub-step costs a few products with the last Hessian and one energy difference.
+    if (subspace_ && H_last && g.allFinite()) {
+      const Eigen::VectorXd ds = subspace_(x, g, *H_last);
+      if (ds.size() == x.size() && ds.allFinite() && g.dot(ds) < 0) {
+        const Eigen::VectorXd trial = x + ds;
+        if (E.max_step_size(x, trial) >= 1.0 && E.is_step_valid(x, trial) && E.value_difference(x, trial) < 0) {
+          x = trial;
+          E.solution_changed(x);
+          g = E.gradient(x);
+          ++result.subspace_steps;
+        }
+      }
+      lap(t0, result.line_search_seconds);
+    }
     if (!g.allFinite()) {
       throw SolverError(context + ": non-finite energy gradient at Newton iteration " +
                         std::to_string(it));
@@ -61,6 +76,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
                            ? HessianKind::kExact
                            : HessianKind::kProjected;
     const Eigen::SparseMatrix<double>* H = &E.hessian(x, kind);
+    H_last = H;
     lap(t0, result.assembly_seconds);
     bool ok = solver_.factorize(*H, pattern);
     lap(t0, result.factorization_seconds);
@@ -68,6 +84,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
       ++result.projected_fallbacks;
       kind = HessianKind::kProjected;
       H = &E.hessian(x, kind);
+      H_last = H;
       lap(t0, result.assembly_seconds);
       ok = solver_.factorize(*H, pattern);
       lap(t0, result.factorization_seconds);

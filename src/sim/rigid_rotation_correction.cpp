@@ -115,4 +115,60 @@ Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen:
   return out;
 }
 
+Eigen::VectorXd rigid_predictor(const Eigen::VectorXd& from, const Eigen::VectorXd& to,
+                                const Eigen::VectorXd& vertex_masses) {
+  const Eigen::Index n = vertex_masses.size();
+  const double mass = vertex_masses.sum();
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    a += vertex_masses[i] * from.segment<3>(3 * i);
+    b += vertex_masses[i] * to.segment<3>(3 * i);
+  }
+  a /= mass;
+  b /= mass;
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();  // sum m (to - b)(from - a)^T
+  for (Eigen::Index i = 0; i < n; ++i) {
+    S += vertex_masses[i] * (to.segment<3>(3 * i) - b) * (from.segment<3>(3 * i) - a).transpose();
+  }
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  const Eigen::Matrix3d R = svd.matrixU() * D * svd.matrixV().transpose();
+  Eigen::VectorXd out(3 * n);
+  for (Eigen::Index i = 0; i < n; ++i) out.segment<3>(3 * i) = b + R * (from.segment<3>(3 * i) - a);
+  return out;
+}
+
+Eigen::VectorXd rigid_newton_step(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                  const Eigen::SparseMatrix<double>& H_lower,
+                                  const Eigen::VectorXd& vertex_masses) {
+  const Eigen::Index n = vertex_masses.size();
+  const double mass = vertex_masses.sum();
+  if (!(mass > 0) || x.size() != 3 * n || g.size() != 3 * n) return {};
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (Eigen::Index i = 0; i < n; ++i) c += vertex_masses[i] * x.segment<3>(3 * i);
+  c /= mass;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 * n, 6);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d r = x.segment<3>(3 * i) - c;
+    G.block<3, 3>(3 * i, 0).setIdentity();
+    // Column 3 + k: e_k x r.
+    G.block<3, 3>(3 * i, 3) << 0, r.z(), -r.y(), -r.z(), 0, r.x(), r.y(), -r.x(), 0;
+  }
+  const Eigen::MatrixXd HG = H_lower.selfadjointView<Eigen::Lower>() * G;
+  const Eigen::Matrix<double, 6, 6> A = G.transpose() * HG;
+  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(0.5 * (A + A.transpose()));
+  if (llt.info() != Eigen::Success) return {};
+  const Eigen::Matrix<double, 6, 1> d = llt.solve(-(G.transpose() * g));
+  const Eigen::Vector3d t = d.head<3>(), w = d.tail<3>();
+  const double angle = w.norm();
+  Eigen::Matrix3d Rm = Eigen::Matrix3d::Zero();
+  if (angle > 0 && std::isfinite(angle)) {
+    Rm = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() - Eigen::Matrix3d::Identity();
+  }
+  Eigen::VectorXd out(3 * n);
+  for (Eigen::Index i = 0; i < n; ++i) out.segment<3>(3 * i) = t + Rm * (x.segment<3>(3 * i) - c);
+  return out;
+}
+
 }  // namespace rbaa

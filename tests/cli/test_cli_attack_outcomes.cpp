@@ -116,41 +116,28 @@ TEST_F(CliAttackOutcomes, StoppedEarlyWritesTheFailedDesignAndResumes) {
   EXPECT_EQ(done["iterations"].get<int>(), failing + 2);
 }
 
-// A polish whose last design cannot be simulated (it is simulated only after the loop, with its
-// re-fit) is not kept: the attack ends normally with the post-processed object, and report.json
-// says why. As above, the Newton limit comes from measured counts: the reference, the unpolished
-// object, and the objects of 1, 2, ... polish iterations (learning rate 0.2, no main iterations,
-// so that the polish alone moves the design).
+// A polish whose last design cannot be measured (its density re-fit or its simulation fails; both
+// happen only after the polish loop) is not kept: the attack ends normally with the
+// post-processed object, and report.json says why. A learning rate of 50 throws the densities to
+// their bounds in two polish steps, and the re-fit cannot bring the moments back (measured: max
+// normalised residual 11.8 at Ceres' convergence). Before, the whole attack failed at its end.
 TEST_F(CliAttackOutcomes, PolishThatFailsIsNotKept) {
   const std::string config = write_file("fast.yaml", kFastTinyBall);
-  const std::string base = "attack --config=" + config + " --iterations=0 --set=attack.learning_rate=0.2";
+  const std::string base = "attack --config=" + config + " --iterations=0 --set=attack.learning_rate=50";
   ASSERT_EQ(run(base + " --out=" + path("p0")).exit_code, 0);
-  int limit = std::max(max_newton_iterations(config, "", "ref"),
-                       max_newton_iterations(config, path("p0/adversarial.msh"), "p0_sim"));
-  int failing = -1;
-  for (int n = 1; n <= 6 && failing < 0; ++n) {
-    const std::string dir = "p" + std::to_string(n);
-    const Result a = run(base + " --set=attack.polish_iterations=" + std::to_string(n) + " --out=" + path(dir));
-    ASSERT_EQ(a.exit_code, 0) << a.err;
-    ASSERT_TRUE(report(dir)["polish"]["kept"].get<bool>()) << n;  // adversarial.msh is the polished object
-    const int count = max_newton_iterations(config, path(dir + "/adversarial.msh"), dir + "_sim");
-    if (count > limit) failing = n;
-    else limit = std::max(limit, count);
-  }
-  ASSERT_GT(failing, 0) << "no polished object within 6 iterations needed more Newton iterations than " << limit;
-
-  const Result r = run(base + " --set=attack.polish_iterations=" + std::to_string(failing) +
-                       " --set=newton.max_iterations=" + std::to_string(limit) + " --out=" + path("nk"));
+  const Result r = run(base + " --set=attack.polish_iterations=2 --out=" + path("nk"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("the polished object failed, keeping the post-processed object"), std::string::npos) << r.err;
   const auto j = report("nk");
-  EXPECT_EQ(j["polish"]["iterations"].get<int>(), failing) << j.dump(2);
+  EXPECT_EQ(j["polish"]["iterations"].get<int>(), 2) << j.dump(2);
   EXPECT_TRUE(j["polish"]["stopped_early"].is_null()) << j.dump(2);
   EXPECT_FALSE(j["polish"]["kept"].get<bool>());
   EXPECT_TRUE(j["polish"]["gap"].is_null());
   ASSERT_TRUE(j["polish"]["failed"].is_string()) << j.dump(2);
-  EXPECT_NE(j["polish"]["failed"].get<std::string>().find("did not converge"), std::string::npos);
+  EXPECT_NE(j["polish"]["failed"].get<std::string>().find("density re-fit"), std::string::npos);
   EXPECT_EQ(j["gap"]["final"], j["gap"]["post_processed"]);
   EXPECT_EQ(j["gap"]["post_processed"], report("p0")["gap"]["post_processed"]);
+  EXPECT_LE(j["moments"]["max_normalized_residual"].get<double>(), 1e-10);
   // The result is the unpolished object, byte for byte.
   EXPECT_EQ(slurp(path("nk/adversarial.msh")), slurp(path("p0/adversarial.msh")));
 }

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <Eigen/SparseCore>
 
 #include "rbaa/sim/rigid_rotation_correction.hpp"
 
@@ -90,6 +92,86 @@ TEST(RigidRotationCorrection, EachClusterTurnsItsLinearisedRotationIntoAFiniteOn
   RigidClusters none;
   none.cluster.assign(8, -1);
   EXPECT_TRUE(rigid_rotation_correction(x, dq, masses, none) == dq);
+}
+
+// The rigid predictor moves the previous shape onto a guess by its centre of mass and best-fit
+// (Kabsch) rotation: for a guess that is an exact rigid motion it reproduces it; for a chord
+// extrapolation (a linearised rotation, which stretches the body) it stays rigid, with the
+// guess's centre of mass, and turns by the angle the chords describe.
+TEST(RigidPredictor, RecoversRigidMotionsAndStaysRigidOnChords) {
+  const TetMesh m = three_tets();
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m.V.data(), 24);
+  Eigen::VectorXd masses(8);
+  masses << 0.5, 1.0, 0.25, 2.0, 0.75, 0.5, 1.5, 1.0;  // uneven: the centre is mass-weighted
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 8; ++i) c += masses[i] * x.segment<3>(3 * i);
+  c /= masses.sum();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Vector3d t(0.3, -0.1, 2.0);
+  Eigen::VectorXd moved(24), chord(24);
+  const Eigen::Vector3d w(0.0, 0.25, 0.1);  // a quarter radian, linearised
+  for (int i = 0; i < 8; ++i) {
+    moved.segment<3>(3 * i) = c + t + R * (x.segment<3>(3 * i) - c);
+    chord.segment<3>(3 * i) = x.segment<3>(3 * i) + t + w.cross(x.segment<3>(3 * i) - c);
+  }
+  const Eigen::VectorXd p = rigid_predictor(x, moved, masses);
+  EXPECT_LT((p - moved).lpNorm<Eigen::Infinity>(), 1e-14);
+  ASSERT_GT(max_distance_change(x, chord, 0, 8), 1e-2);  // the chords stretch
+  const Eigen::VectorXd q = rigid_predictor(x, chord, masses);
+  EXPECT_LT(max_distance_change(x, q, 0, 8), 1e-14);
+  Eigen::Vector3d cq = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 8; ++i) cq += masses[i] * q.segment<3>(3 * i);
+  EXPECT_LT((cq / masses.sum() - (c + t)).norm(), 1e-14);
+  // It turned towards the chords: closer to them (mass-weighted) than the translation alone.
+  double turned = 0, translated = 0;
+  for (int i = 0; i < 8; ++i) {
+    turned += masses[i] * (q.segment<3>(3 * i) - chord.segment<3>(3 * i)).squaredNorm();
+    translated += masses[i] * (x.segment<3>(3 * i) + t - chord.segment<3>(3 * i)).squaredNorm();
+  }
+  EXPECT_LT(turned, 0.05 * translated);
+}
+
+// The rigid sub-step is Newton restricted to the six rigid motions: on a quadratic energy
+// 1/2 (y - y*)^T K (y - y*) with K = diag(masses) (each 3 times) and y* a small rigid motion of x,
+// its translation is exact, its rotation exact to first order (applied as a finite rotation), and
+// with a non-rigid part in y* it still lowers the energy.
+TEST(RigidNewtonStep, SolvesTheRigidPartOfAQuadratic) {
+  const TetMesh m = three_tets();
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m.V.data(), 24);
+  Eigen::VectorXd masses(8);
+  masses << 0.5, 1.0, 0.25, 2.0, 0.75, 0.5, 1.5, 1.0;
+  Eigen::SparseMatrix<double> K(24, 24);
+  for (int i = 0; i < 24; ++i) K.insert(i, i) = masses[i / 3];
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 8; ++i) c += masses[i] * x.segment<3>(3 * i);
+  c /= masses.sum();
+  const Eigen::Vector3d t(1e-3, -2e-3, 5e-4), w(2e-4, -1e-4, 3e-4);
+  Eigen::VectorXd target(24);
+  for (int i = 0; i < 8; ++i) target.segment<3>(3 * i) = x.segment<3>(3 * i) + t + w.cross(x.segment<3>(3 * i) - c);
+  const Eigen::VectorXd g = K * (x - target);
+  const Eigen::VectorXd ds = rigid_newton_step(x, g, K, masses);
+  ASSERT_EQ(ds.size(), 24);
+  // Finite rotation vs the linearised target: they differ by at most |w|^2 |r| / 2.
+  double r_max = 0;
+  for (int i = 0; i < 8; ++i) r_max = std::max(r_max, (x.segment<3>(3 * i) - c).norm());
+  const double second_order = 0.5 * w.squaredNorm() * r_max;
+  EXPECT_LT((x + ds - target).lpNorm<Eigen::Infinity>(), 1.01 * second_order);
+  EXPECT_GT((x + ds - target).lpNorm<Eigen::Infinity>(), 0.1 * second_order);  // it is finite
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 8; ++i) mean += masses[i] * ds.segment<3>(3 * i);
+  EXPECT_LT((mean / masses.sum() - t).norm(), 1e-15);
+  EXPECT_LT(max_distance_change(x, x + ds, 0, 8), 1e-15);  // a rigid step
+  // A non-rigid target: the step still descends and lowers the energy.
+  Eigen::VectorXd bent = target;
+  bent[5] += 3e-3;
+  const Eigen::VectorXd g2 = K * (x - bent);
+  const Eigen::VectorXd ds2 = rigid_newton_step(x, g2, K, masses);
+  auto energy = [&](const Eigen::VectorXd& y) { return 0.5 * (y - bent).dot(K * (y - bent)); };
+  EXPECT_LT(g2.dot(ds2), 0);
+  EXPECT_LT(energy(x + ds2), energy(x));
+  // A Hessian with no stiffness along the rigid motions gives no step.
+  const Eigen::SparseMatrix<double> zero(24, 24);
+  EXPECT_EQ(rigid_newton_step(x, g, zero, masses).size(), 0);
 }
 
 }  // namespace

@@ -14,8 +14,13 @@
 // "near the tolerance" switch at 1e3 x tolerance. The converged iterate is the one at which the last Hessian was
 // factorised (its step was computed and found below tolerance, and not applied), so the adjoint
 // can reuse that factor when it is exact.
+//
+// An optional subspace sub-step (set_subspace_step) is tried before every factorisation after the
+// first; the simulator gives the body's six rigid motions (rigid_newton_step), which finishes the
+// rotation that a Newton step on a stiff stressed body leaves behind to second order.
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include <functional>
 #include <limits>
@@ -43,6 +48,7 @@ struct NewtonResult {
   int line_search_halvings = 0;   ///< summed over the iterations
   int ccd_limited_steps = 0;      ///< steps shortened by the forms' max_step_size
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
+  int subspace_steps = 0;         ///< sub-steps taken (set_subspace_step), no factorisation each
   /// Stopped above the tolerance at the round-off floor: kFloorWindow steps in a row, all below
   /// kFloorFactor x tolerance, none smaller than the smallest step before them (no
   /// progress at all, only noise). step_velocity is then the floor's latest step and
@@ -89,6 +95,15 @@ class NewtonSolver {
   /// rigid_rotation_correction.hpp). Used only when the result is still a descent direction.
   using StepTransform = std::function<Eigen::VectorXd(const Eigen::VectorXd& x, const Eigen::VectorXd& dq)>;
   void set_step_transform(StepTransform transform) { transform_ = std::move(transform); }
+  /// Optional cheap sub-step tried before each factorisation after the first: given the iterate,
+  /// its gradient and the previous iteration's Hessian (lower triangle), a candidate step in a
+  /// small subspace (the simulator: the body's rigid motions), or an empty vector. It is taken
+  /// only when it is admissible (CCD, validity) and lowers the energy, so it cannot harm
+  /// convergence; it removes what a Newton step on a stiff, stressed, spinning body leaves behind
+  /// to second order: a rigid rotation of the soft rotational mode (see newton_solver.cpp).
+  using SubspaceStep = std::function<Eigen::VectorXd(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                                     const Eigen::SparseMatrix<double>& H_lower)>;
+  void set_subspace_step(SubspaceStep step) { subspace_ = std::move(step); }
   /// Called after every accepted Newton step.
   void set_iteration_callback(IterationCallback callback) { callback_ = std::move(callback); }
 
@@ -96,6 +111,7 @@ class NewtonSolver {
   NewtonSettings settings_;
   IterationCallback callback_;
   StepTransform transform_;
+  SubspaceStep subspace_;
   LinearSolver solver_;
 };
 

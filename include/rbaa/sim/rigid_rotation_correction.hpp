@@ -19,6 +19,7 @@
 // linearly: their elements barely resist the stretch.
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include <vector>
 
@@ -45,5 +46,21 @@ RigidClusters stiff_clusters(const TetMesh& mesh, const MaterialField& materials
 Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen::VectorXd& dq,
                                           const Eigen::VectorXd& vertex_masses,
                                           const RigidClusters& clusters);
+
+/// The shape of `from` moved rigidly onto `to`: its mass-weighted centre to that of `to` and
+/// rotated by the best-fit (mass-weighted Kabsch) rotation from `from` to `to`. A time step's
+/// initial guess for a stiff spinning body: the extrapolated positions `to` rotate its vertices
+/// along chords, which stretches the body by theta^2 / 2 and, at Y = 1e13, loads the Hessian's
+/// rotations with a geometric stiffness ~1e6 times their inertia.
+Eigen::VectorXd rigid_predictor(const Eigen::VectorXd& from, const Eigen::VectorXd& to,
+                                const Eigen::VectorXd& vertex_masses);
+
+/// A Newton step restricted to the rigid motions of the whole body (mass-weighted centre c,
+/// translations and rotations about c): with G the 3 #V x 6 basis, solves (G^T H G) d = -G^T g for
+/// the lower triangle H of a Hessian and returns the step with its rotation applied as a finite
+/// rotation, t + (exp([w]x) - I) r_i. Empty if G^T H G is not positive definite.
+Eigen::VectorXd rigid_newton_step(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                  const Eigen::SparseMatrix<double>& H_lower,
+                                  const Eigen::VectorXd& vertex_masses);
 
 }  // namespace rbaa

@@ -45,6 +45,10 @@ struct SimulationSettings {
   double newton_tolerance = 1e-8;
   int newton_max_iterations = 100;
   double exact_hessian_factor = std::numeric_limits<double>::infinity();  ///< see NewtonSettings
+  /// Start each step from the previous shape moved rigidly onto the ballistic guess when that is
+  /// lower in energy, and try a rigid-motion Newton sub-step before each factorisation
+  /// (rigid_rotation_correction.hpp). Off: the ballistic guess and plain Newton (for comparison).
+  bool rigid_predictor = true;
 };
 
 /// Settings of a scene: its h, steps = round(duration / h), integrator, mass model, gravity,
