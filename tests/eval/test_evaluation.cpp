@@ -76,6 +76,10 @@ TEST(Evaluation, CalibratedRestitutionReproducesTheTargetOnATiltedCube) {
   EXPECT_GT(cal.iterations, 2);                          // the secant iterated
   EXPECT_GT(std::abs(cal.restitution - target), 1e-3);   // rebound != restitution off a corner
   EXPECT_NEAR(rebound, target, tolerance * target);
+  // What the calibration reports is what the rigid run does with its restitution (the same
+  // deterministic run: to round-off, not to the tolerance, so a calibration that reports the
+  // mirror of its error, target - f for target + f, is caught).
+  EXPECT_NEAR(cal.rigid_rebound, rebound, 1e-14);
   EXPECT_GT(states.back().position.z(), states.front().position.z() - 0.05);  // it left the floor
   // Driven to 1e-12 the secant must still converge well inside its 30-run cap (measured: 11 runs;
   // Bullet's rebound is not linear in the restitution for this spinning corner impact).
@@ -86,6 +90,9 @@ TEST(Evaluation, CalibratedRestitutionReproducesTheTargetOnATiltedCube) {
   EXPECT_TRUE(fine.calibrated);
   EXPECT_LE(fine.iterations, 15);
   EXPECT_NEAR(fine.rigid_rebound, target, 1e-12 * target);
+  settings.plane_restitution = {fine.restitution};
+  const std::vector<RigidState> again = simulate_rigid(mass, shape, scene, settings, scene.duration);
+  EXPECT_NEAR(-again.back().velocity.z() / again.front().velocity.z(), fine.rigid_rebound, 1e-14);
 }
 
 TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
