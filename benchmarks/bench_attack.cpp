@@ -1,0 +1,165 @@
+// One whole attack iteration on the paper's scenes, as `rbaa attack` runs it: the loop of
+// run_attack_loop for one iteration (retraction onto the matched moments, forward run, adjoint,
+// moment residuals and Jacobian, occupancy smoothing, the tangent projection and the Adam step)
+// at the attack's starting design. Printed per scene beside the absolute time: Newton iterations
+// and numeric factorisations per step (forward + backward; one Newton iteration factorises once,
+// plus exact Hessians found indefinite), the mean time of one factorisation measured inside the
+// same iteration, and
+//
+//   ratio_to_factorisations: iteration time / (steps x one factorisation)
+//
+// the distance from the physical limit of one factorisation per step (1.0 would be an iteration
+// made of nothing but one factorisation per step).
+//
+//   ./build/benchmarks/bench_attack [--scenes=ball,bunny,star] [--configs=configs]
+//                                   [--benchmark_repetitions=3]
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_common.hpp"
+#include "rbaa/diff/trajectory_gradient.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/geometry/smoothing.hpp"
+#include "rbaa/material/design_space.hpp"
+#include "rbaa/opt/attack_loop.hpp"
+#include "rbaa/opt/moment_cost.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/sim/barrier_stiffness.hpp"
+#include "rbaa/sim/simulator.hpp"
+
+namespace {
+
+struct SceneFixture {
+  std::string name;
+  rbaa::Scene scene;
+  rbaa::TetMesh mesh, centred;
+  rbaa::SimulationSettings settings;
+  std::unique_ptr<rbaa::DesignSpace> design;
+  std::unique_ptr<rbaa::TrajectoryGradientFunction> f;
+  std::unique_ptr<rbaa::MomentCostFunction> moments;
+  std::unique_ptr<rbaa::GradientSmoother> smoother;
+  Eigen::VectorXd theta0;
+};
+
+std::unique_ptr<SceneFixture> make_fixture(const rbaa_bench::Options& o, const std::string& name) {
+  auto f = std::make_unique<SceneFixture>();
+  f->name = name;
+  f->scene = rbaa_bench::load(o, name);
+  const rbaa::Scene& scene = f->scene;
+  f->mesh = rbaa::make_scene_mesh(scene);
+  f->settings = rbaa::simulation_settings(scene, rbaa::scene_barrier_stiffness(scene, f->mesh));
+  const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(f->mesh.V.data(), 3 * f->mesh.num_vertices());
+  const Eigen::VectorXd v0 = rbaa::rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
+  const rbaa::MaterialField reference = rbaa::MaterialField::uniform(
+      f->mesh.num_tets(), scene.reference_Y, scene.reference_nu, scene.reference_rho, 1.0);
+  rbaa::Simulator sim(f->mesh, reference, f->settings);
+  auto objective = rbaa::UndirectedTrajectoryObjective::from_reference(f->mesh, scene.reference_rho,
+                                                                       sim.run(q0, v0).q.back());
+  f->design = std::make_unique<rbaa::DesignSpace>(f->mesh, rbaa::DesignSpaceOptions::from_scene(scene));
+  f->f = std::make_unique<rbaa::TrajectoryGradientFunction>(f->mesh, f->settings, q0, v0, *f->design, objective,
+                                                            rbaa::FactorStorage::kStore);
+  // As run_attack: moments about the reference's centre of mass.
+  const rbaa::Moments ref_moments = rbaa::compute_moments(f->mesh, reference.effective_density());
+  f->centred = f->mesh;
+  f->centred.V.rowwise() -= ref_moments.centre_of_mass().transpose();
+  f->moments = std::make_unique<rbaa::MomentCostFunction>(
+      f->centred, *f->design, rbaa::compute_moments(f->centred, reference.effective_density()));
+  if (f->design->optimises(rbaa::DesignField::kAlpha)) {
+    f->smoother = std::make_unique<rbaa::GradientSmoother>(f->mesh, scene.smoothing_gamma);
+  }
+  f->theta0 = f->design->initial_theta(true);
+  std::printf("%s: %d vertices, %d tets, %d dofs, %d steps of %.4g s, %d design variables\n", name.c_str(),
+              f->mesh.num_vertices(), f->mesh.num_tets(), 3 * f->mesh.num_vertices(), f->settings.num_steps,
+              f->settings.time_step, static_cast<int>(f->design->size()));
+  return f;
+}
+
+void BM_AttackIteration(benchmark::State& state, SceneFixture* f) {
+  rbaa::AttackLoopOptions loop;
+  loop.iterations = 1;
+  loop.beta = f->scene.beta;
+  loop.adam.learning_rate = f->scene.learning_rate;
+  loop.adam.beta1 = f->scene.adam_beta1;
+  loop.adam.beta2 = f->scene.adam_beta2;
+  loop.project_moments = f->scene.project_moments;
+  const rbaa::TrajectoryTerm term = [f](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    rbaa::TrajectoryTermValue v;
+    v.value = f->f->evaluate(theta, gradient);
+    v.forward_seconds = f->f->last().forward_seconds;
+    v.adjoint_seconds = f->f->last().adjoint_seconds;
+    return v;
+  };
+  // One untimed iteration first: the first gradient allocates every stored factor and the first
+  // forward run does the symbolic analysis; an attack pays that once in hundreds of iterations.
+  rbaa::run_attack_loop(*f->design, *f->moments, f->smoother.get(), term, f->theta0, loop);
+  for (auto _ : state) {
+    const rbaa::AttackLoopResult r =
+        rbaa::run_attack_loop(*f->design, *f->moments, f->smoother.get(), term, f->theta0, loop);
+    benchmark::DoNotOptimize(r.theta.data());
+  }
+  const rbaa::TrajectoryEvaluation& e = f->f->last();
+  int newton = 0, factorisations = 0;
+  double factor_seconds = e.adjoint.factorization_seconds;
+  for (const rbaa::StepStats& s : e.trajectory.steps) {
+    newton += s.newton_iterations;
+    factorisations += s.newton_iterations + s.projected_fallbacks;
+    factor_seconds += s.factorization_seconds;
+  }
+  factorisations += e.adjoint.rebuilt_factorizations;
+  const int steps = static_cast<int>(e.trajectory.steps.size());
+  state.counters["steps"] = steps;
+  state.counters["newton_its"] = newton;
+  state.counters["factorisations"] = factorisations;
+  state.counters["backward_factorisations"] = e.adjoint.rebuilt_factorizations;
+  state.counters["factor_each_s"] = factorisations > 0 ? factor_seconds / factorisations : 0.0;
+  state.counters["forward_s"] = e.forward_seconds;
+  state.counters["backward_s"] = e.adjoint_seconds;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const rbaa_bench::Options options = rbaa_bench::parse_options(argc, argv, {"ball", "bunny", "star"});
+  benchmark::Initialize(&argc, argv);
+  std::vector<std::unique_ptr<SceneFixture>> fixtures;
+  for (const std::string& name : options.scenes) {
+    fixtures.push_back(make_fixture(options, name));
+    benchmark::RegisterBenchmark(("AttackIteration/" + name).c_str(), BM_AttackIteration, fixtures.back().get())
+        ->Unit(benchmark::kSecond)
+        ->UseRealTime()
+        ->MinTime(2.0);
+  }
+  rbaa_bench::RecordingReporter reporter(options.cpu_time);
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+
+  std::printf("\n%-6s %10s %6s %12s %14s %12s %12s %12s\n", "scene", "iteration", "steps", "newton/step",
+              "factorise/step", "of which bwd", "factorise", "fwd + bwd");
+  std::printf("%-6s %10s %6s %12s %14s %12s %12s %12s\n", "", "s", "", "", "", "", "ms", "s");
+  for (const auto& f : fixtures) {
+    const std::string p = "AttackIteration/" + f->name;
+    const double t = reporter.time(p), steps = reporter.counter(p, "steps");
+    if (t <= 0 || steps <= 0) continue;
+    std::printf("%-6s %10.3f %6.0f %12.2f %14.2f %12.0f %12.2f %6.2f+%.2f\n", f->name.c_str(), t, steps,
+                reporter.counter(p, "newton_its") / steps, reporter.counter(p, "factorisations") / steps,
+                reporter.counter(p, "backward_factorisations"), reporter.counter(p, "factor_each_s") * 1e3,
+                reporter.counter(p, "forward_s"), reporter.counter(p, "backward_s"));
+  }
+  std::printf("\n");
+  for (const auto& f : fixtures) {
+    const std::string p = "AttackIteration/" + f->name;
+    const double t = reporter.time(p), steps = reporter.counter(p, "steps");
+    const double factor = reporter.counter(p, "factor_each_s");
+    if (t <= 0 || steps <= 0 || factor <= 0) continue;
+    std::printf("ratio_to_factorisations: %s %.2f (iteration %.3f s / (%g steps x %.2f ms))\n", f->name.c_str(),
+                t / (steps * factor), t, steps, factor * 1e3);
+  }
+  std::printf("\n(%s time)\nBLAS/LAPACK mapped into this process:\n%s", options.cpu_time ? "CPU" : "wall",
+              rbaa_bench::loaded_blas().c_str());
+  benchmark::Shutdown();
+  return 0;
+}
