@@ -71,6 +71,9 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "contact.d_hat " << number(s.d_hat) << "\n";
   t << "contact.kappa " << number(s.kappa) << "\n";
   t << "newton.tolerance " << number(s.newton_tolerance) << "\n";
+  // The predictor changes results within Newton's tolerance; the default keeps older checkpoints'
+  // fingerprints.
+  if (!s.newton_rigid_predictor) t << "newton.rigid_predictor false\n";
   t << "reference_material " << number(s.reference_Y) << " " << number(s.reference_nu) << " "
     << number(s.reference_rho) << "\n";
   t << "material_bounds.Y " << number(s.Y_range.lo) << " " << number(s.Y_range.hi) << "\n";

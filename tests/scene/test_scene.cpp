@@ -13,6 +13,7 @@
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_fingerprint.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/sim/simulator.hpp"
 
 namespace rbaa {
 namespace {
@@ -194,6 +195,10 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error(std::string(kMinimal) + "attack: {fields: [Y, E]}\n", {"attack.fields", "'E'"});
   expect_error(std::string(kMinimal) + "time: {integrator: rk4}\n", {"time.integrator", "'rk4'"});
   expect_error(std::string(kMinimal) + "newton: {max_iterations: 2.5}\n", {"newton.max_iterations", "whole number"});
+  expect_error(std::string(kMinimal) + "newton: {rigid_predictor: maybe}\n", {"newton.rigid_predictor", "'maybe'"});
+  EXPECT_FALSE(parse_scene(std::string(kMinimal) + "newton: {rigid_predictor: false}\n", "t.yaml", "").newton_rigid_predictor);
+  EXPECT_TRUE(parse_scene(kMinimal, "t.yaml", "").newton_rigid_predictor);
+  EXPECT_FALSE(simulation_settings(parse_scene(kMinimal, "t.yaml", "", {"newton.rigid_predictor=false"}), 1.0).rigid_predictor);
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: -1}\n", {"attack.polish_iterations"});
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: 2.5}\n", {"attack.polish_iterations", "whole number"});
   expect_error("mesh: {shape: cube, file: a.msh}\n", {"mesh", "exactly one of shape, surface, file"});
@@ -238,7 +243,7 @@ TEST(Scene, FingerprintSeesEverySettingThatChangesAResult) {
         "attack.learning_rate=0.1", "attack.beta=1e3", "attack.adam_beta1=0.9", "attack.adam_beta2=0.99",
         "attack.seed=2", "attack.perturbation=0.2", "attack.alpha0=0.9", "attack.Y0=1e10", "attack.nu0=0.3",
         "attack.smoothing_gamma=2", "attack.boundary=vertices", "attack.round_threshold=0.4",
-        "attack.project_moments=false"}) {
+        "attack.project_moments=false", "newton.rigid_predictor=false"}) {
     EXPECT_NE(scene_fingerprint(parse_scene(base, "a.yaml", "", {o})), fp) << o;
   }
 }
