@@ -124,7 +124,7 @@ TEST(Observables, ContactsWithoutReversalOrEndAreNotBounces) {
   std::vector<Eigen::Vector3d> velocity;
   for (int k = 0; k < 10; ++k) {
     distances.push_back({(k == 2 || k == 8 || k == 9) ? 5e-4 : 0.1});
-    velocity.emplace_back(0, 0, k < 2 ? -1.0 : -0.43);
+    velocity.emplace_back(0, 0, k < 2 ? -1.0 : (k < 9 ? -0.43 : -0.2));
   }
   const std::vector<Bounce> b =
       find_bounces(distances, velocity, floor, 1e-3, Eigen::Vector3d::Zero(), 0.01, 0);
@@ -134,6 +134,9 @@ TEST(Observables, ContactsWithoutReversalOrEndAreNotBounces) {
   EXPECT_NE(b[0].note.find("did not reverse"), std::string::npos) << b[0].note;
   EXPECT_EQ(b[1].kind, BounceKind::kUnfinished);
   EXPECT_FALSE(b[1].complete());
+  // Its outgoing velocity so far is the last state's (not one past the end).
+  EXPECT_EQ(b[1].normal_velocity_out, (std::vector<double>{-0.2}));
+  EXPECT_EQ(b[1].normal_velocity_in, (std::vector<double>{-0.43}));
   EXPECT_TRUE(std::isnan(b[1].restitution));
 }
 
