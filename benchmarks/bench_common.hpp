@@ -28,6 +28,9 @@ struct Options {
   /// --cpu_time: summaries use CPU time instead of wall time. Meaningful with one thread
   /// (OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1), where it is immune to other processes' load.
   bool cpu_time = false;
+  /// --set=key.path=value[;key.path=value...] (repeatable): config overrides for every scene, as
+  /// `rbaa --set`, e.g. --set=newton.rigid_predictor=false to time the old Newton.
+  std::vector<std::string> overrides;
 };
 
 inline std::vector<std::string> split_list(const std::string& s) {
@@ -48,6 +51,11 @@ inline Options parse_options(int& argc, char** argv, std::vector<std::string> de
       o.scenes = split_list(argv[i] + 9);
     } else if (!std::strncmp(argv[i], "--configs=", 10)) {
       o.configs = argv[i] + 10;
+    } else if (!std::strncmp(argv[i], "--set=", 6)) {
+      std::stringstream in(argv[i] + 6);
+      for (std::string item; std::getline(in, item, ';');) {
+        if (!item.empty()) o.overrides.push_back(item);
+      }
     } else if (!std::strcmp(argv[i], "--cpu_time")) {
       o.cpu_time = true;
     } else {
@@ -59,7 +67,8 @@ inline Options parse_options(int& argc, char** argv, std::vector<std::string> de
 }
 
 inline rbaa::Scene load(const Options& o, const std::string& scene,
-                        const std::vector<std::string>& overrides = {}) {
+                        std::vector<std::string> overrides = {}) {
+  overrides.insert(overrides.begin(), o.overrides.begin(), o.overrides.end());
   return rbaa::load_scene(o.configs + "/" + scene + ".yaml", overrides);
 }
 
