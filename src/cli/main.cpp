@@ -12,6 +12,7 @@
 
 #include "rbaa/cli/verb.hpp"
 #include "rbaa/error.hpp"
+#include "rbaa/sim/threads.hpp"
 
 namespace {
 
@@ -75,6 +76,7 @@ void merge_set_flags(std::vector<char*>& args, std::string& storage) {
 
 int main(int argc, char** argv) {
   FLAGS_logtostderr = true;
+  rbaa::tune_threads_for_shared_cores();
   google::InitGoogleLogging(argv[0]);
   gflags::SetUsageMessage("rbaa <verb> [--flags]; rbaa --help lists the verbs");
 

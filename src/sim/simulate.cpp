@@ -207,7 +207,7 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                  {"simulate_s", run.simulate_seconds},
                  {"per_step_s", t.num_steps() ? step_sum / t.num_steps() : 0.0},
                  {"per_iteration_s", total ? step_sum / total : 0.0},
-                 {"threads", simulation_threads()}};
+                 {"threads", simulation_threads()}, {"thread_setup", thread_setup()}};
   write_file_atomically((fs::path(dir) / "report.json").string(),
                         [&](std::ostream& os) { os << r.dump(2) << "\n"; });
 }

@@ -1,11 +1,41 @@
 #include "rbaa/sim/threads.hpp"
 
+#include <dlfcn.h>
 #include <omp.h>
+
+#include <cstdlib>
 
 namespace rbaa {
 
 int simulation_threads() { return omp_get_max_threads(); }
 
 void set_simulation_threads(int n) { omp_set_num_threads(n < 1 ? 1 : n); }
+
+namespace {
+std::string& setup_text() {
+  static std::string text;
+  return text;
+}
+}  // namespace
+
+const std::string& thread_setup() { return setup_text(); }
+
+std::string tune_threads_for_shared_cores() {
+  std::string& said = setup_text();
+  said.clear();
+  if (!std::getenv("OMP_DYNAMIC")) {
+    omp_set_dynamic(1);
+    said += "OpenMP dynamic teams";
+  }
+  if (!std::getenv("OPENBLAS_NUM_THREADS")) {
+    // Only OpenBLAS has this entry point; another BLAS is left alone.
+    using SetThreads = void (*)(int);
+    if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) {
+      set(1);
+      said += std::string(said.empty() ? "" : ", ") + "OpenBLAS on 1 thread";
+    }
+  }
+  return said;
+}
 
 }  // namespace rbaa

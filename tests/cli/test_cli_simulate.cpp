@@ -1,6 +1,8 @@
 // rbaa simulate and rbaa evaluate as a user runs them: outputs, and clear errors on bad input.
 
 #include <gtest/gtest.h>
+
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Dense>
@@ -54,6 +56,23 @@ TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
   ASSERT_EQ(both.exit_code, 0) << both.err;
   std::ifstream in3(path("sim3/report.json"));
   EXPECT_EQ(nlohmann::json::parse(in3)["newton"]["iterations_per_step"].size(), 4u);
+}
+
+// The command line sizes OpenMP teams dynamically (CHOLMOD asks for 4 threads on any machine) and
+// puts OpenBLAS on one thread, unless the user set OMP_DYNAMIC / OPENBLAS_NUM_THREADS; report.json
+// says what it set.
+TEST_F(CliSimulate, ThreadSetupRespectsTheUsersEnvironment) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  auto setup = [&](const std::string& env, const std::string& dir) {
+    const std::string cmd = "env " + env + " " + std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
+                            " --vtu_every=0 --progress=false --out=" + path(dir) + " 2>/dev/null";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream in(path(dir + "/report.json"));
+    return nlohmann::json::parse(in)["timing"]["thread_setup"].get<std::string>();
+  };
+  EXPECT_EQ(setup("-u OMP_DYNAMIC -u OPENBLAS_NUM_THREADS", "a"), "OpenMP dynamic teams, OpenBLAS on 1 thread");
+  EXPECT_EQ(setup("-u OMP_DYNAMIC OPENBLAS_NUM_THREADS=2", "b"), "OpenMP dynamic teams");
+  EXPECT_EQ(setup("OMP_DYNAMIC=false OPENBLAS_NUM_THREADS=1", "c"), "");
 }
 
 // object.position is the centre of mass (README): a materials file with non-uniform density moves
