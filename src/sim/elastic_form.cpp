@@ -143,12 +143,11 @@ void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKin
     const double w = scale * weight_[e];
     Eigen::Matrix<double, 9, 9> H9;
     if (project) {
-      // Any mode the projection removed (below -1e-14 (mu + lambda), see projected_hessian) makes
-      // this Hessian differ from the exact one. Counting only those below -1e-12 (mu + lambda)
-      // labelled factors "exact" that were not: at Y = 1e13 even a removed -1e-13 (mu + lambda)
-      // mode is large beside a body's rigid-rotation curvature (its inertia), and the adjoint,
-      // reusing such a factor, disagreed with the tangent by 1e-7 on the cube once a rigid
-      // predictor let contact steps converge on their first, projected, Hessian.
+      // Any mode the projection removed (below -1e-12 (mu + lambda), see projected_hessian) makes
+      // this Hessian differ from the exact one. The removal and this flag once used different
+      // thresholds (-1e-14 and -1e-12): modes in between were removed unflagged, Newton labelled
+      // such factors exact, and the adjoint reusing them disagreed with the tangent by 1e-7 on the
+      // cube once a rigid predictor let contact steps converge on their first, projected, Hessian.
       if (snh::projected_hessian(F, mu_[e], lambda_[e], H9) < 0) {
         clamped = true;
       }

@@ -167,11 +167,15 @@ Eigensystem hessian_eigensystem(const Eigen::Matrix3d& F, double mu, double lamb
 double projected_hessian(const Eigen::Matrix3d& F, double mu, double lambda,
                          Eigen::Matrix<double, 9, 9>& H) {
   H = hessian(F, mu, lambda);
-  // One rotation-variant SVD gives the nine eigenvalues. Those above -1e-14 (mu + lambda) are
-  // round-off zeros (the rotation modes of a resting element) and stay; most elements of a body
-  // at rest or in flight have no other and keep the exact closed form. The others lose their
-  // negative modes (at most five of nine), built only for those.
-  const double zero = -1e-14 * (mu + lambda);
+  // One rotation-variant SVD gives the nine eigenvalues. Those above -1e-12 (mu + lambda) stay:
+  // round-off zeros (the rotation modes of a resting element) and the near-zero rotation modes of
+  // a barely stressed one, whose negative curvature is far below any element's mass term in a
+  // step, so the global Hessian stays positive definite. Most elements of a body at rest or in
+  // flight have no other and keep the exact closed form, so Newton's factor is the exact Hessian
+  // that the adjoint reuses (at -1e-14 the cube's free-flight steps lost it to such modes and its
+  // gradient cost 1.50 forward runs instead of 1.02). The others lose their negative modes (at
+  // most five of nine), built only for those.
+  const double zero = -1e-12 * (mu + lambda);
   const RotationVariantSvd svd = rotation_variant_svd(F);
   const Eigen::Vector3d& sv = svd.s;
   const double t = lambda * (sv[0] * sv[1] * sv[2] - 1.0) - mu;

@@ -66,8 +66,8 @@ struct RotationVariantSvd {
 
 RotationVariantSvd rotation_variant_svd(const Eigen::Matrix3d& F);
 
-/// H = d2Psi/dF2 with its eigenvalues below -1e-14 (mu + lambda) set to zero (the PSD projection
-/// up to round-off zeros), computed as the closed-form Hessian minus those modes: an element with
+/// H = d2Psi/dF2 with its eigenvalues below -1e-12 (mu + lambda) set to zero (the PSD projection
+/// up to near-zero modes, see the source), computed as the closed-form Hessian minus those modes: an element with
 /// none keeps the exact closed form, and only the others pay for eigenvectors. Returns the most
 /// negative eigenvalue removed, 0 if none.
 double projected_hessian(const Eigen::Matrix3d& F, double mu, double lambda,
