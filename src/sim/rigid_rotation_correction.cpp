@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "rbaa/sim/observables.hpp"
+
 namespace rbaa {
 
 RigidClusters RigidClusters::whole(int num_vertices) {
@@ -118,14 +120,7 @@ Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen:
 Eigen::VectorXd rigid_predictor(const Eigen::VectorXd& from, const Eigen::VectorXd& to,
                                 const Eigen::VectorXd& vertex_masses) {
   const Eigen::Index n = vertex_masses.size();
-  const double mass = vertex_masses.sum();
-  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    a += vertex_masses[i] * from.segment<3>(3 * i);
-    b += vertex_masses[i] * to.segment<3>(3 * i);
-  }
-  a /= mass;
-  b /= mass;
+  const Eigen::Vector3d a = centre_of_mass(from, vertex_masses), b = centre_of_mass(to, vertex_masses);
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();  // sum m (to - b)(from - a)^T
   for (Eigen::Index i = 0; i < n; ++i) {
     S += vertex_masses[i] * (to.segment<3>(3 * i) - b) * (from.segment<3>(3 * i) - a).transpose();
@@ -143,11 +138,8 @@ Eigen::VectorXd rigid_newton_step(const Eigen::VectorXd& x, const Eigen::VectorX
                                   const Eigen::SparseMatrix<double>& H_lower,
                                   const Eigen::VectorXd& vertex_masses) {
   const Eigen::Index n = vertex_masses.size();
-  const double mass = vertex_masses.sum();
-  if (!(mass > 0) || x.size() != 3 * n || g.size() != 3 * n) return {};
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (Eigen::Index i = 0; i < n; ++i) c += vertex_masses[i] * x.segment<3>(3 * i);
-  c /= mass;
+  if (!(vertex_masses.sum() > 0) || x.size() != 3 * n || g.size() != 3 * n) return {};
+  const Eigen::Vector3d c = centre_of_mass(x, vertex_masses);
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 * n, 6);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d r = x.segment<3>(3 * i) - c;
