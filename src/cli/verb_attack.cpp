@@ -88,12 +88,14 @@ RBAA_REGISTER_VERB(attack, rbaa::cli::Verb{
     "occupied elements into one body, re-fits densities to the reference moments (1e-10) and\n"
     "re-simulates the final object; with attack.polish_iterations = N > 0 it then runs N Adam\n"
     "iterations on Y, nu, rho of that solid object (occupancy fixed) and keeps the result if its gap\n"
-    "is larger. Progress goes to stderr and DIR/progress.csv (polish: DIR/polish_progress.csv);\n"
+    "is larger (never if its re-fit or simulation fails: report.json polish.failed says why).\n"
+    "Progress goes to stderr and DIR/progress.csv (polish: DIR/polish_progress.csv);\n"
     "DIR/checkpoint.json (polish_checkpoint.json) is written atomically after every iteration\n"
     "(--resume continues from it if the parsed settings that change the result are the same:\n"
     "comments, key order, evaluation.*, attack.iterations, attack.polish_iterations and\n"
     "newton.max_iterations may differ; a mesh file counts by its content). Writes\n"
     "DIR/adversarial.msh and .vtu (final object, element data Y, nu, rho, alpha), DIR/continuous.msh\n"
     "and DIR/report.json. A simulation that fails mid-run (Newton) stops the loop at the last design\n"
-    "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate --materials).",
+    "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate --materials).\n"
+    "DIR/continuous.msh is written before post-processing, so a failed density re-fit loses nothing.",
     flags(), run_attack_verb});
