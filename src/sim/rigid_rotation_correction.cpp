@@ -3,7 +3,10 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 #include "rbaa/sim/observables.hpp"
@@ -14,6 +17,7 @@ RigidClusters RigidClusters::whole(int num_vertices) {
   RigidClusters c;
   c.cluster.assign(num_vertices, 0);
   c.count = num_vertices > 0 ? 1 : 0;
+  c.hinge.assign(c.count, {});
   return c;
 }
 
@@ -27,6 +31,23 @@ int find_root(std::vector<int>& parent, int v) {
   return v;
 }
 
+// The w minimising sum m |d_i - w x r_i|^2 from the tensor I = sum m (|r|^2 - r r^T) and
+// L = sum m r x d; a pseudo-inverse where I is singular (a flap whose vertices lie on one line
+// through its hinge cannot fix the rotation about that line, and needs none).
+Eigen::Vector3d best_fit_rotation(const Eigen::Matrix3d& I, const Eigen::Vector3d& L) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
+  const Eigen::Vector3d lambda = eig.eigenvalues();
+  const double cut = 1e-12 * lambda.cwiseAbs().maxCoeff();
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    if (lambda[k] > cut) {
+      const Eigen::Vector3d u = eig.eigenvectors().col(k);
+      w += u * (u.dot(L) / lambda[k]);
+    }
+  }
+  return w;
+}
+
 }  // namespace
 
 RigidClusters stiff_clusters(const TetMesh& mesh, const MaterialField& materials, double ratio) {
@@ -38,30 +59,66 @@ RigidClusters stiff_clusters(const TetMesh& mesh, const MaterialField& materials
     stiffness[e] = a * a * a * materials.Y[e];
     largest = std::max(largest, stiffness[e]);
   }
-  // Union-find over shared vertices, not face adjacency (label_components): a vertex belongs to
-  // exactly one cluster, so two stiff regions touching at a vertex or an edge are one.
-  std::vector<int> parent(nv);
+  // Union-find over the stiff elements through shared faces: two stiff regions touching only at
+  // an edge or a vertex turn independently about it, so they are two clusters.
+  std::vector<int> parent(nt);
   std::iota(parent.begin(), parent.end(), 0);
-  std::vector<char> stiff_vertex(nv, 0);
+  std::vector<char> stiff(nt, 0);
+  std::map<std::array<int, 3>, int> face_owner;
   for (int e = 0; e < nt; ++e) {
     if (stiffness[e] < ratio * largest) continue;
-    const int r0 = find_root(parent, mesh.T(e, 0));
-    stiff_vertex[mesh.T(e, 0)] = 1;
-    for (int a = 1; a < 4; ++a) {
-      stiff_vertex[mesh.T(e, a)] = 1;
-      const int ra = find_root(parent, mesh.T(e, a));
-      if (ra != r0) parent[ra] = find_root(parent, r0);
+    stiff[e] = 1;
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<int, 3> f;
+      for (int a = 0, k = 0; a < 4; ++a) {
+        if (a != skip) f[k++] = mesh.T(e, a);
+      }
+      std::sort(f.begin(), f.end());
+      const auto [it, inserted] = face_owner.emplace(f, e);
+      if (!inserted) {
+        const int r0 = find_root(parent, e), r1 = find_root(parent, it->second);
+        if (r0 != r1) parent[std::max(r0, r1)] = std::min(r0, r1);
+      }
     }
   }
-  // Number the clusters in order of their first vertex (deterministic).
+  // Mass of each component, then its rank: heaviest first, ties by its first element.
+  std::vector<double> mass(nt, 0.0);
+  for (int e = 0; e < nt; ++e) {
+    if (!stiff[e]) continue;
+    const Eigen::Vector3d a = mesh.V.row(mesh.T(e, 0)).transpose();
+    const double volume = std::abs((mesh.V.row(mesh.T(e, 1)).transpose() - a)
+                                       .cross(mesh.V.row(mesh.T(e, 2)).transpose() - a)
+                                       .dot(mesh.V.row(mesh.T(e, 3)).transpose() - a)) / 6.0;
+    mass[find_root(parent, e)] += materials.rho[e] * materials.alpha[e] * volume;
+  }
+  std::vector<int> roots;
+  for (int e = 0; e < nt; ++e) {
+    if (stiff[e] && find_root(parent, e) == e) roots.push_back(e);
+  }
+  std::stable_sort(roots.begin(), roots.end(), [&](int a, int b) { return mass[a] > mass[b]; });
+  std::vector<int> rank(nt, -1);
+  for (std::size_t k = 0; k < roots.size(); ++k) rank[roots[k]] = static_cast<int>(k);
+
   RigidClusters c;
+  c.count = static_cast<int>(roots.size());
   c.cluster.assign(nv, -1);
-  std::vector<int> id(nv, -1);
-  for (int v = 0; v < nv; ++v) {
-    if (!stiff_vertex[v]) continue;
-    const int r = find_root(parent, v);
-    if (id[r] < 0) id[r] = c.count++;
-    c.cluster[v] = id[r];
+  c.hinge.assign(c.count, {});
+  std::vector<std::vector<int>> members(c.count);
+  for (int e = 0; e < nt; ++e) {
+    if (!stiff[e]) continue;
+    const int k = rank[find_root(parent, e)];
+    for (int a = 0; a < 4; ++a) {
+      const int v = mesh.T(e, a);
+      members[k].push_back(v);
+      if (c.cluster[v] < 0 || k < c.cluster[v]) c.cluster[v] = k;
+    }
+  }
+  for (int k = 0; k < c.count; ++k) {
+    std::sort(members[k].begin(), members[k].end());
+    members[k].erase(std::unique(members[k].begin(), members[k].end()), members[k].end());
+    for (int v : members[k]) {
+      if (c.cluster[v] < k) c.hinge[k].push_back(v);
+    }
   }
   return c;
 }
@@ -71,48 +128,64 @@ Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen:
                                           const RigidClusters& clusters) {
   const Eigen::Index n = vertex_masses.size();
   const int k = clusters.count;
-  std::vector<double> mass(k, 0.0);
-  std::vector<Eigen::Vector3d> c(k, Eigen::Vector3d::Zero()), t(k, Eigen::Vector3d::Zero());
+  // Each cluster's own vertices (those it is the heaviest cluster of), in vertex order.
+  std::vector<std::vector<int>> own(k);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const int j = clusters.cluster[i];
-    if (j < 0) continue;
-    mass[j] += vertex_masses[i];
-    c[j] += vertex_masses[i] * x.segment<3>(3 * i);
-    t[j] += vertex_masses[i] * dq.segment<3>(3 * i);
-  }
-  for (int j = 0; j < k; ++j) {
-    if (mass[j] > 0) {
-      c[j] /= mass[j];
-      t[j] /= mass[j];
-    }
-  }
-  // Best-fit w per cluster: (sum m_i [r_i]x^T [r_i]x) w = sum m_i r_i x (dq_i - t)  (inertia
-  // tensor about the cluster's centre).
-  std::vector<Eigen::Matrix3d> I(k, Eigen::Matrix3d::Zero());
-  std::vector<Eigen::Vector3d> L(k, Eigen::Vector3d::Zero());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const int j = clusters.cluster[i];
-    if (j < 0) continue;
-    const Eigen::Vector3d r = x.segment<3>(3 * i) - c[j];
-    I[j] += vertex_masses[i] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
-    L[j] += vertex_masses[i] * r.cross(dq.segment<3>(3 * i) - t[j]);
-  }
-  std::vector<Eigen::Vector3d> w(k);
-  std::vector<Eigen::Matrix3d> Rm(k);
-  std::vector<char> rotates(k, 0);
-  for (int j = 0; j < k; ++j) {
-    w[j] = I[j].ldlt().solve(L[j]);
-    const double angle = w[j].norm();
-    if (!(angle > 1e-12) || !std::isfinite(angle)) continue;
-    rotates[j] = 1;
-    Rm[j] = Eigen::AngleAxisd(angle, w[j] / angle).toRotationMatrix() - Eigen::Matrix3d::Identity();
+    if (clusters.cluster[i] >= 0) own[clusters.cluster[i]].push_back(static_cast<int>(i));
   }
   Eigen::VectorXd out = dq;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const int j = clusters.cluster[i];
-    if (j < 0 || !rotates[j]) continue;
-    const Eigen::Vector3d r = x.segment<3>(3 * i) - c[j];
-    out.segment<3>(3 * i) += Rm[j] * r - w[j].cross(r);
+  // Heaviest first, so that a flap's hinge has been corrected by its heavier clusters.
+  for (int j = 0; j < k; ++j) {
+    const std::vector<int>& hinge = j < static_cast<int>(clusters.hinge.size())
+                                        ? clusters.hinge[j]
+                                        : std::vector<int>{};
+    // Centre c and the motion d_c it takes linearly (t) and with its corrections (t + shift).
+    Eigen::Vector3d c = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero();
+    Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+    if (hinge.empty()) {
+      double mass = 0;
+      for (int i : own[j]) {
+        mass += vertex_masses[i];
+        c += vertex_masses[i] * x.segment<3>(3 * i);
+        t += vertex_masses[i] * dq.segment<3>(3 * i);
+      }
+      if (!(mass > 0)) continue;
+      c /= mass;
+      t /= mass;
+    } else {
+      for (int i : hinge) {
+        c += x.segment<3>(3 * i);
+        t += dq.segment<3>(3 * i);
+        shift += out.segment<3>(3 * i) - dq.segment<3>(3 * i);
+      }
+      c /= static_cast<double>(hinge.size());
+      t /= static_cast<double>(hinge.size());
+      shift /= static_cast<double>(hinge.size());
+    }
+    // Best-fit w: (sum m_i [r_i]x^T [r_i]x) w = sum m_i r_i x (dq_i - t) over the cluster's
+    // vertices, its hinge included (the hinge pins the axis of a flap).
+    Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d L = Eigen::Vector3d::Zero();
+    auto add = [&](int i) {
+      const Eigen::Vector3d r = x.segment<3>(3 * i) - c;
+      I += vertex_masses[i] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+      L += vertex_masses[i] * r.cross(dq.segment<3>(3 * i) - t);
+    };
+    for (int i : own[j]) add(i);
+    for (int i : hinge) add(i);
+    const Eigen::Vector3d w = hinge.empty() ? Eigen::Vector3d(I.ldlt().solve(L))
+                                            : best_fit_rotation(I, L);
+    const double angle = w.norm();
+    if (!(angle > 1e-12) || !std::isfinite(angle)) {
+      for (int i : own[j]) out.segment<3>(3 * i) += shift;
+      continue;
+    }
+    const Eigen::Matrix3d Rm =
+        Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() - Eigen::Matrix3d::Identity();
+    for (int i : own[j]) {
+      const Eigen::Vector3d r = x.segment<3>(3 * i) - c;
+      out.segment<3>(3 * i) += shift + Rm * r - w.cross(r);
+    }
   }
   return out;
 }

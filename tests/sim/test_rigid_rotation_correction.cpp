@@ -43,20 +43,70 @@ double max_distance_change(const Eigen::VectorXd& x, const Eigen::VectorXd& y, i
   return worst;
 }
 
-TEST(RigidRotationCorrection, StiffElementsFormClustersThroughSharedVertices) {
+TEST(RigidRotationCorrection, StiffElementsFormClustersThroughSharedFaces) {
   const TetMesh m = three_tets();
   const RigidClusters soft = stiff_clusters(m, soft_middle());
   EXPECT_EQ(soft.count, 2);
   EXPECT_EQ(soft.cluster, (std::vector<int>{0, 0, 0, 0, 1, 1, 1, 1}));
+  EXPECT_TRUE(soft.hinge[0].empty() && soft.hinge[1].empty());
+  // Uniform: tets 0 and 1 share a face (one cluster, the heavier), tet 2 touches them only at
+  // vertex 4: a flap of its own, hinged there; vertex 4 belongs to the heavier cluster.
   const RigidClusters uniform = stiff_clusters(m, MaterialField::uniform(3, 6.5e11, 0.3, 2500));
-  EXPECT_EQ(uniform.count, 1);
-  EXPECT_EQ(uniform.cluster, std::vector<int>(8, 0));
+  EXPECT_EQ(uniform.count, 2);
+  EXPECT_EQ(uniform.cluster, (std::vector<int>{0, 0, 0, 0, 0, 1, 1, 1}));
+  EXPECT_TRUE(uniform.hinge[0].empty());
+  EXPECT_EQ(uniform.hinge[1], std::vector<int>{4});
+  // Heaviest first: with tet 2 dense enough it is cluster 0 and the pair hinges on it.
+  MaterialField dense_flap = MaterialField::uniform(3, 6.5e11, 0.3, 2500);
+  dense_flap.rho[2] = 11300;
+  const RigidClusters heavy = stiff_clusters(m, dense_flap);
+  EXPECT_EQ(heavy.cluster, (std::vector<int>{1, 1, 1, 1, 0, 0, 0, 0}));
+  EXPECT_EQ(heavy.hinge[1], std::vector<int>{4});
   // A material 1000x softer than the stiffest still counts as stiff; 1e4x softer does not.
   MaterialField mixed = MaterialField::uniform(3, 6.5e11, 0.3, 2500);
   mixed.Y[1] = 6.5e8 * 1.01;
-  EXPECT_EQ(stiff_clusters(m, mixed).count, 1);
+  EXPECT_EQ(stiff_clusters(m, mixed).cluster, uniform.cluster);
   mixed.Y[1] = 6.5e7;
-  EXPECT_EQ(stiff_clusters(m, mixed).count, 2);
+  EXPECT_EQ(stiff_clusters(m, mixed).cluster, soft.cluster);
+}
+
+// A flap turns about its hinge: the hinge vertex moves with the heavier cluster's finite rotation
+// and the flap's own vertices turn about it by the flap's whole (composed) rotation, so both stay
+// rigid; as one cluster (the old grouping through shared vertices) the flap stays stretched.
+TEST(RigidRotationCorrection, AFlapTurnsAboutItsHinge) {
+  const TetMesh m = three_tets();
+  const Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m.V.data(), 24);
+  Eigen::VectorXd masses(8);
+  masses << 0.5, 1.0, 0.25, 2.0, 0.75, 0.5, 1.5, 1.0;
+  const RigidClusters clusters = stiff_clusters(m, MaterialField::uniform(3, 6.5e11, 0.3, 2500));
+  ASSERT_EQ(clusters.hinge[1], std::vector<int>{4});
+  const Eigen::Vector3d w0(0.05, -0.1, 0.2), w1(-0.2, 0.1, 0.15), t0(0.01, 0.02, -0.03);
+  Eigen::Vector3d c0 = Eigen::Vector3d::Zero();
+  double m0 = 0;
+  for (int i = 0; i < 5; ++i) {
+    c0 += masses[i] * x.segment<3>(3 * i);
+    m0 += masses[i];
+  }
+  c0 /= m0;
+  Eigen::VectorXd dq(24);
+  for (int i = 0; i < 5; ++i) dq.segment<3>(3 * i) = t0 + w0.cross(x.segment<3>(3 * i) - c0);
+  const Eigen::Vector3d hinge = x.segment<3>(12);
+  for (int i = 5; i < 8; ++i) {
+    dq.segment<3>(3 * i) = dq.segment<3>(12) + (w0 + w1).cross(x.segment<3>(3 * i) - hinge);
+  }
+  ASSERT_GT(max_distance_change(x, x + dq, 4, 8), 1e-2);
+  const Eigen::VectorXd y = x + rigid_rotation_correction(x, dq, masses, clusters);
+  EXPECT_LT(max_distance_change(x, y, 0, 5), 1e-14);
+  EXPECT_LT(max_distance_change(x, y, 4, 8), 1e-14);
+  const Eigen::Matrix3d R0 = Eigen::AngleAxisd(w0.norm(), w0.normalized()).toRotationMatrix();
+  EXPECT_LT((y.segment<3>(12) - (c0 + t0 + R0 * (hinge - c0))).norm(), 1e-14);
+  const Eigen::Vector3d w = w0 + w1;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+  for (int i = 5; i < 8; ++i) {
+    EXPECT_LT((y.segment<3>(3 * i) - (y.segment<3>(12) + R * (x.segment<3>(3 * i) - hinge))).norm(), 1e-14);
+  }
+  const Eigen::VectorXd one = rigid_rotation_correction(x, dq, masses, RigidClusters::whole(8));
+  EXPECT_GT(max_distance_change(x, x + one, 4, 8), 1e-3);
 }
 
 TEST(RigidRotationCorrection, EachClusterTurnsItsLinearisedRotationIntoAFiniteOne) {
@@ -129,6 +179,17 @@ TEST(RigidPredictor, RecoversRigidMotionsAndStaysRigidOnChords) {
     translated += masses[i] * (x.segment<3>(3 * i) + t - chord.segment<3>(3 * i)).squaredNorm();
   }
   EXPECT_LT(turned, 0.05 * translated);
+  // And it is the best-fit rotation over every vertex: at the optimum of
+  // sum m |q_i - chord_i|^2 over rotations about the centre, the torque
+  // sum m (q_i - c) x (chord_i - c) vanishes (Kabsch's stationarity).
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+  double scale = 0;
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d a = q.segment<3>(3 * i) - (c + t), b = chord.segment<3>(3 * i) - (c + t);
+    torque += masses[i] * a.cross(b);
+    scale += masses[i] * a.norm() * b.norm();
+  }
+  EXPECT_LT(torque.norm(), 1e-14 * scale);
 }
 
 // The rigid sub-step is Newton restricted to the six rigid motions: on a quadratic energy

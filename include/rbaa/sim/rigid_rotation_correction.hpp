@@ -11,11 +11,15 @@
 // dq' = dq + O(|w|^2 |r|), so it stays a descent direction for the small rotations of one step
 // (the Newton solver checks and falls back to dq otherwise).
 //
-// The correction acts per stiff cluster: the vertices of stiff elements, grouped by shared
-// vertices. A uniform object is one cluster. An attack's continuous design can hold stiff islands
-// (a dense tet, alpha ~ 1) floating in near-void elements (alpha^3 ~ 1e-8); an island rotates on
-// its own during an impact, and without its own finite rotation Newton crept at ~1e-2 m/s for 100
-// iterations (the ball's design at Adam iteration 83). Vertices of soft elements only move
+// The correction acts per stiff cluster: stiff elements joined through shared faces. A uniform
+// object is one cluster. An attack's continuous design can hold stiff islands (a dense tet,
+// alpha ~ 1) floating in near-void elements (alpha^3 ~ 1e-8), and stiff flaps that touch the
+// rest of the stiff material only at an edge or a vertex (a hinge). Each turns on its own during
+// an impact: without its own finite rotation Newton crept at ~1e-2 m/s for 100 iterations (an
+// island, the ball's design at Adam iteration 83), and a flap hinged on an edge crept at ~1e-3 m/s
+// (the ball's design at iteration 154) while it was part of its neighbour's rotation. A flap turns
+// about its hinge: the hinge's vertices move with their heavier cluster, and the flap's own
+// rotation is fitted and applied about the hinge's centre. Vertices of soft elements only move
 // linearly: their elements barely resist the stretch.
 
 #include <Eigen/Core>
@@ -28,21 +32,27 @@
 
 namespace rbaa {
 
-/// Vertices grouped into rigid clusters: cluster[v] in [0, count) or -1 (no correction).
+/// Vertices grouped into rigid clusters, numbered heaviest first.
 struct RigidClusters {
+  /// The heaviest cluster holding each vertex, in [0, count), or -1 (no correction).
   std::vector<int> cluster;
   int count = 0;
+  /// Per cluster, its vertices that belong to a heavier cluster too (its hinge); empty for a
+  /// cluster that touches no heavier one.
+  std::vector<std::vector<int>> hinge;
 
   /// One cluster holding every vertex.
   static RigidClusters whole(int num_vertices);
 };
 
 /// Clusters of the elements whose stiffness alpha^3 Y is at least `ratio` times the largest,
-/// connected through shared vertices; vertices of other elements only get -1.
+/// connected through shared faces and ordered by mass (rho alpha V, heaviest first; ties by first
+/// element); vertices of other elements only get -1.
 RigidClusters stiff_clusters(const TetMesh& mesh, const MaterialField& materials, double ratio = 1e-3);
 
 /// The corrected step dq' for positions x (3 #V), step dq and vertex masses (#V), each cluster
-/// rotated by its own best-fit finite rotation.
+/// rotated by its own best-fit finite rotation: about its centre of mass, or, for a cluster with a
+/// hinge, about the hinge's centre, which moves as its heavier clusters move it.
 Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen::VectorXd& dq,
                                           const Eigen::VectorXd& vertex_masses,
                                           const RigidClusters& clusters);
