@@ -236,19 +236,23 @@ TEST_F(CliSweep, SlurmArrayOfFourRowsThroughTheRealEngine) {
   const Result submit = shell(env + "bash " + path("out/slurm/submit.sh") + " 2>&1");
   ASSERT_EQ(submit.exit_code, 0) << submit.out;
   EXPECT_NE(submit.out.find("(4 tasks), merge job "), std::string::npos) << submit.out;
+  // "array job A (4 tasks), merge job M -> ..."
   const std::string array_id = submit.out.substr(10, submit.out.find(' ', 10) - 10);
+  const size_t m = submit.out.find("merge job ") + 10;
+  const std::string merge_id = submit.out.substr(m, submit.out.find(' ', m) - m);
 
   // The merge job writes merge.out when it ends; rows take a second or two each.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(8);
   std::string merged;
   while (std::chrono::steady_clock::now() < deadline) {
-    const std::string queue = shell(env + "squeue -h -o %i").out;
+    const std::string queue =
+        shell(env + "squeue -h -o %i -j " + array_id + "," + merge_id + " 2>/dev/null").out;
     if (queue.empty() && fs::exists(path("out/slurm/merge.out"))) break;
     std::this_thread::sleep_for(std::chrono::seconds(1));
   }
   const std::string results = slurp(path("out/results.csv"));
   if (results.empty()) {
-    (void)std::system((env + "scancel " + array_id + " 2>/dev/null").c_str());
+    (void)std::system((env + "scancel " + array_id + " " + merge_id + " 2>/dev/null").c_str());
   }
   const auto table = csv_rows(results);
   ASSERT_EQ(table.size(), 5u) << results << slurp(path("out/slurm/merge.out"));
