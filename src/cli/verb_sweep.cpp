@@ -46,7 +46,9 @@ std::string own_executable() {
 
 std::string duration_text(double s) {
   char buf[64];
-  if (s < 60) {
+  if (s < 10) {
+    std::snprintf(buf, sizeof(buf), "%.1f s", s);
+  } else if (s < 60) {
     std::snprintf(buf, sizeof(buf), "%.0f s", s);
   } else if (s < 3600) {
     std::snprintf(buf, sizeof(buf), "%d min %02d s", static_cast<int>(s) / 60,
@@ -123,9 +125,11 @@ int run_sweep_verb() {
   options.only_row = FLAGS_row;
   const int jobs = FLAGS_row >= 0 ? 1 : FLAGS_jobs;
   options.split = rbaa::split_threads(jobs, FLAGS_threads, rbaa::available_cores());
-  std::fprintf(stderr, "sweep: %s, %s x %zu rows -> %s (%s)\n", grid.source.c_str(),
-               grid.verb.c_str(), FLAGS_row >= 0 ? size_t{1} : grid.rows.size(), out_dir.c_str(),
-               rbaa::describe(options.split).c_str());
+  const std::string which = FLAGS_row >= 0 ? "row " + std::to_string(FLAGS_row) + " of " +
+                                                 std::to_string(grid.rows.size())
+                                           : std::to_string(grid.rows.size()) + " rows";
+  std::fprintf(stderr, "sweep: %s: %s of rbaa %s -> %s (%s)\n", grid.source.c_str(), which.c_str(),
+               grid.verb.c_str(), out_dir.c_str(), rbaa::describe(options.split).c_str());
   if (options.split.oversubscribed) {
     std::fprintf(stderr, "sweep: note: %d x %d threads > %d cores: rows will compete for cores\n",
                  options.split.jobs, options.split.threads, options.split.cores);
@@ -142,15 +146,16 @@ int run_sweep_verb() {
       if (!p.ended->error.empty()) what += ": " + p.ended->error;
     }
     std::string eta = p.eta_seconds >= 0 ? duration_text(p.eta_seconds) : "?";
-    if (p.done + p.failed == p.total) eta = "0 s";
+    if (p.done + p.failed == p.total) eta = "0.0 s";
     std::fprintf(stderr, "sweep: %s | %d/%d done%s, %d running, %d failed | ETA %s\n", what.c_str(),
                  p.done, p.total,
                  p.skipped ? (" (" + std::to_string(p.skipped) + " earlier)").c_str() : "",
                  p.running, p.failed, eta.c_str());
   };
   const rbaa::SweepSummary s = rbaa::run_sweep(grid, options, on_progress);
-  std::fprintf(stderr, "sweep: %d rows: %d ok, %d skipped (finished earlier), %d failed, in %s%s\n",
-               s.total, s.ok, s.skipped, s.failed, duration_text(s.seconds).c_str(),
+  std::fprintf(stderr, "sweep: %d %s: %d ok, %d skipped (finished earlier), %d failed, in %s%s\n",
+               s.total, s.total == 1 ? "row" : "rows", s.ok, s.skipped, s.failed,
+               duration_text(s.seconds).c_str(),
                FLAGS_row >= 0 ? "" : ("; " + out_dir + "/results.csv").c_str());
   return s.failed == 0 ? 0 : 1;
 }

@@ -100,7 +100,7 @@ TEST_F(CliSweep, FourStarRowsWithOneBadOverrideResumeAndMerge) {
   EXPECT_NE(first.err.find("row 1 ok in "), std::string::npos) << first.err;
   EXPECT_NE(first.err.find("row 2 failed in "), std::string::npos) << first.err;
   EXPECT_NE(first.err.find(" done, 1 running, "), std::string::npos) << first.err;
-  EXPECT_NE(first.err.find("| 3/4 done, 0 running, 1 failed | ETA 0 s"), std::string::npos)
+  EXPECT_NE(first.err.find("| 3/4 done, 0 running, 1 failed | ETA 0.0 s"), std::string::npos)
       << first.err;
   EXPECT_NE(first.err.find("4 rows: 3 ok, 0 skipped (finished earlier), 1 failed"),
             std::string::npos)
