@@ -18,6 +18,11 @@ PACKAGES=(
   libopenblas0-pthread libopenblas-pthread-dev
   gnuplot-nox
 )
+# A one-node Slurm for the real-engine test of `rbaa sweep --emit=slurm`
+# (scripts/slurm_localhost.sh; the test skips without it): installed in CI, or when asked.
+if [ "${CI:-}" = true ] || [ "${RBAA_WITH_SLURM:-}" = 1 ]; then
+  PACKAGES+=(slurm-wlm munge)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -1,0 +1,26 @@
+#pragma once
+// DIR/results.csv: one line per row of a sweep, gathered from the rows' markers and report.json.
+
+#include <string>
+#include <vector>
+
+#include "rbaa/sweep/sweep_grid.hpp"
+#include "rbaa/sweep/sweep_row.hpp"
+
+namespace rbaa {
+
+/// Every row's outcome under `out_dir` (kPending for rows never started). Throws InputError when
+/// a row's folder holds a run with other arguments (the grid changed: use another --out).
+std::vector<RowOutcome> read_sweep_outcomes(const SweepGrid& grid, const std::string& out_dir);
+
+/// The results table: header "row,status,<swept keys>,<grid.report_columns>,seconds,error,folder",
+/// then one line per row. Report figures come from the row's report.json (dotted paths; empty
+/// where absent or the row did not finish); text fields are quoted when they need it.
+std::string sweep_results_csv(const SweepGrid& grid, const std::string& out_dir,
+                              const std::vector<RowOutcome>& outcomes);
+
+/// Writes sweep_results_csv to out_dir/results.csv atomically.
+void write_sweep_results(const SweepGrid& grid, const std::string& out_dir,
+                         const std::vector<RowOutcome>& outcomes);
+
+}  // namespace rbaa

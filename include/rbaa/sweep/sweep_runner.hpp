@@ -1,0 +1,44 @@
+#pragma once
+// Runs a sweep's rows on this machine: a pool of at most `jobs` child processes of the rbaa
+// program, one per row, each in its own folder (sweep_row.hpp). Finished rows are skipped
+// (resume); a failed row is recorded and the others go on. Progress goes through a callback.
+
+#include <functional>
+#include <string>
+
+#include "rbaa/sweep/sweep_grid.hpp"
+#include "rbaa/sweep/sweep_row.hpp"
+#include "rbaa/sweep/thread_split.hpp"
+
+namespace rbaa {
+
+struct SweepOptions {
+  std::string executable;  ///< the rbaa program the rows run
+  std::string out_dir;     ///< DIR: rows in DIR/row-NNN, DIR/results.csv
+  ThreadSplit split;       ///< jobs at once and OpenMP threads per row
+  int only_row = -1;       ///< >= 0: run this row alone and leave results.csv alone (Slurm tasks)
+};
+
+/// What the sweep has done so far, after a row started or ended.
+struct SweepProgress {
+  int total = 0;    ///< rows in this run (1 with only_row)
+  int done = 0;     ///< finished, including skipped
+  int skipped = 0;  ///< finished before this run
+  int failed = 0;
+  int running = 0;
+  double eta_seconds = -1;            ///< estimate from this run's rows; < 0 before one ends
+  const RowOutcome* ended = nullptr;  ///< the row that just ended, or nullptr
+  int started = -1;                   ///< the row that just started, or -1
+};
+
+struct SweepSummary {
+  int total = 0, ok = 0, skipped = 0, failed = 0;
+  double seconds = 0;
+};
+
+/// Runs the rows (all, or only_row) and, for a whole sweep, rewrites DIR/results.csv after every
+/// row that ends. Throws InputError when DIR holds rows of another grid (read_sweep_outcomes).
+SweepSummary run_sweep(const SweepGrid& grid, const SweepOptions& options,
+                       const std::function<void(const SweepProgress&)>& on_progress = {});
+
+}  // namespace rbaa

@@ -1,0 +1,275 @@
+// rbaa sweep as a user runs it: a 4-row sweep of short star simulations on this machine (results,
+// resume, a row that fails alone, the thread split), bad grid files, and the same kind of sweep
+// through a real single-node Slurm (scripts/slurm_localhost.sh), skipped where it cannot start.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <thread>
+#include <vector>
+
+#include "cli/cli_fixture.hpp"
+#include "rbaa/sweep/thread_split.hpp"
+
+namespace {
+
+using rbaa_cli_test::Cli;
+using rbaa_cli_test::Result;
+namespace fs = std::filesystem;
+
+const std::string kStar = std::string(RBAA_SOURCE_DIR) + "/configs/star.yaml";
+
+// The star at ~580 tets (its floor for 300) for two steps of 1/30 s: a second or two per row.
+std::string star_grid(const std::string& rows) {
+  return "config: " + kStar +
+         "\n"
+         "verb: simulate\n"
+         "set: {mesh.target_tets: 300, time.duration: 0.0667}\n"
+         "flags: {vtu_every: 0, progress: false}\n" +
+         rows;
+}
+
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"') {
+        quoted = !quoted;
+      } else if (c == ',' && !quoted) {
+        cells.push_back(cell);
+        cell.clear();
+      } else {
+        cell += c;
+      }
+    }
+    cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+int column(const std::vector<std::string>& header, const std::string& name) {
+  for (size_t i = 0; i < header.size(); ++i) {
+    if (header[i] == name) return static_cast<int>(i);
+  }
+  ADD_FAILURE() << "no column " << name;
+  return 0;
+}
+
+class CliSweep : public Cli {
+ protected:
+  /// Runs a shell command (not rbaa) and returns its exit code and stdout.
+  static Result shell(const std::string& command) {
+    Result r{0, "", ""};
+    FILE* pipe = popen(command.c_str(), "r");
+    char buffer[4096];
+    while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) r.out.append(buffer, n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+  }
+
+  nlohmann::json report(const std::string& out, int row) {
+    std::ifstream in(path(out + "/row-00" + std::to_string(row) + "/report.json"));
+    return nlohmann::json::parse(in);
+  }
+};
+
+// Four rows, two at a time, one with an override the scene rejects: it fails alone, with the
+// scene's one-line error in results.csv; the others finish. Running again skips the three
+// finished rows and retries the failed one; --row and --merge do what the Slurm tasks do.
+TEST_F(CliSweep, FourStarRowsWithOneBadOverrideResumeAndMerge) {
+  const std::string grid =
+      write_file("grid.yaml", star_grid("rows:\n"
+                                        "  - {object.velocity: [0, -10, -10]}\n"
+                                        "  - {object.velocity: [0, -5, -5]}\n"
+                                        "  - {time.duration: -1}\n"
+                                        "  - {object.velocity: [0, -10, -5]}\n"));
+  const std::string args = "sweep --grid=" + grid + " --out=" + path("out") + " --jobs=2";
+  const Result first = run(args);
+  EXPECT_EQ(first.exit_code, 1) << first.err;  // one row failed
+  // Progress lines say what is done, running and failed, and the time left.
+  EXPECT_NE(first.err.find("2 jobs x "), std::string::npos) << first.err;
+  EXPECT_NE(first.err.find("row 1 ok in "), std::string::npos) << first.err;
+  EXPECT_NE(first.err.find("row 2 failed in "), std::string::npos) << first.err;
+  EXPECT_NE(first.err.find(" done, 1 running, "), std::string::npos) << first.err;
+  EXPECT_NE(first.err.find("| 3/4 done, 0 running, 1 failed | ETA 0.0 s"), std::string::npos)
+      << first.err;
+  EXPECT_NE(first.err.find("4 rows: 3 ok, 0 skipped (finished earlier), 1 failed"),
+            std::string::npos)
+      << first.err;
+
+  const std::string results = slurp(path("out/results.csv"));
+  const auto table = csv_rows(results);
+  ASSERT_EQ(table.size(), 5u) << results;
+  const auto& h = table[0];
+  EXPECT_EQ(h[0], "row");
+  EXPECT_EQ(h[1], "status");
+  EXPECT_EQ(h[2], "object.velocity");
+  EXPECT_EQ(h[3], "time.duration");
+  for (int row : {0, 1, 3}) {
+    const auto& r = table[row + 1];
+    EXPECT_EQ(r[column(h, "status")], "ok") << results;
+    EXPECT_EQ(r[column(h, "steps")], "2") << results;
+    EXPECT_GE(std::stoi(r[column(h, "newton.total_iterations")]), 2) << results;
+    EXPECT_GT(std::stod(r[column(h, "timing.simulate_s")]), 0.0) << results;
+    EXPECT_TRUE(r[column(h, "error")].empty()) << results;
+    EXPECT_EQ(r[column(h, "folder")], "row-00" + std::to_string(row));
+  }
+  EXPECT_EQ(table[1][2], "[0, -10, -10]");
+  const auto& bad = table[3];
+  EXPECT_EQ(bad[column(h, "status")], "failed");
+  EXPECT_EQ(bad[column(h, "time.duration")], "-1");
+  EXPECT_NE(bad[column(h, "error")].find("error: "), std::string::npos) << results;
+  EXPECT_NE(bad[column(h, "error")].find("time.duration"), std::string::npos) << results;
+  EXPECT_NE(bad[column(h, "error")].find("[exit code 2]"), std::string::npos) << results;
+  EXPECT_TRUE(fs::exists(path("out/row-002/log.txt")));
+
+  // Each row had cores / jobs OpenMP threads (ctest's OMP_NUM_THREADS=2 notwithstanding).
+  const int threads = std::max(1, rbaa::available_cores() / 2);
+  EXPECT_EQ(report("out", 0)["timing"]["threads"].get<int>(), threads);
+
+  // Resume: finished rows are not run again (their report is untouched), the failed one is.
+  const auto stamp = fs::last_write_time(path("out/row-000/report.json"));
+  const Result again = run(args);
+  EXPECT_EQ(again.exit_code, 1) << again.err;
+  EXPECT_NE(again.err.find("4 rows: 0 ok, 3 skipped (finished earlier), 1 failed"),
+            std::string::npos)
+      << again.err;
+  EXPECT_EQ(again.err.find("row 0 started"), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("row 2 started"), std::string::npos) << again.err;
+  EXPECT_EQ(fs::last_write_time(path("out/row-000/report.json")), stamp);
+  EXPECT_EQ(slurp(path("out/results.csv")).substr(0, results.find("\n1,")),
+            results.substr(0, results.find("\n1,")));
+
+  // One row alone (a Slurm task) leaves results.csv to --merge; --threads is the user's choice.
+  const std::string merged_before = slurp(path("out/results.csv"));
+  fs::remove_all(path("out/row-003"));
+  const Result one = run("sweep --grid=" + grid + " --out=" + path("out") + " --row=3 --threads=2");
+  EXPECT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(report("out", 3)["timing"]["threads"].get<int>(), 2);
+  EXPECT_EQ(slurp(path("out/results.csv")), merged_before);
+  const Result merge = run("sweep --grid=" + grid + " --out=" + path("out") + " --merge");
+  EXPECT_EQ(merge.exit_code, 1) << merge.err;
+  EXPECT_NE(merge.err.find("4 rows: 3 ok, 1 failed, 0 unfinished, 0 never started"),
+            std::string::npos)
+      << merge.err;
+  EXPECT_EQ(csv_rows(slurp(path("out/results.csv"))).size(), 5u);
+  const Result out_of_range = run("sweep --grid=" + grid + " --out=" + path("out") + " --row=4");
+  EXPECT_EQ(out_of_range.exit_code, 2);
+  EXPECT_NE(out_of_range.err.find("has 4 rows (0 to 3)"), std::string::npos) << out_of_range.err;
+
+  // The grid changed under the same --out: refused, not mixed.
+  const std::string changed =
+      write_file("changed.yaml", star_grid("product: {time.duration: [0.1]}\n"));
+  expect_failure("sweep --grid=" + changed + " --out=" + path("out"),
+                 "holds a run of other settings");
+}
+
+TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {
+  const std::string head = "config: " + kStar + "\nverb: simulate\n";
+  auto fails = [&](const std::string& name, const std::string& text, const std::string& message) {
+    const std::string grid = write_file(name, text);
+    expect_failure("sweep --grid=" + grid + " --out=" + path("out"), grid + message);
+  };
+  fails("unknown_key.yaml", head + "product: {time.step: [0.01]}\nseeds: [1, 2]\n",
+        ":4: unknown key 'seeds' (a grid has: config, verb, set, flags, product, rows, report, "
+        "slurm)");
+  fails("empty_product.yaml", head + "product: {}\n",
+        ":3: product: empty (give key.path: [values])");
+  fails("empty_list.yaml", head + "product:\n  time.step: []\n",
+        ":4: product: key 'time.step': empty list");
+  fails("unknown_verb.yaml", "config: " + kStar + "\nverb: smulate\nproduct: {time.step: [0.01]}\n",
+        ":2: verb 'smulate' is not one of: attack, evaluate, simulate, study");
+  fails("unknown_flag.yaml", head + "flags:\n  vtu_evry: 0\nproduct: {time.step: [0.01]}\n",
+        ":4: flags: unknown flag --vtu_evry (rbaa simulate --help lists its flags)");
+  expect_failure("sweep --grid=" + path("missing.yaml") + " --out=" + path("out"),
+                 "missing.yaml: cannot read the grid file");
+  expect_failure("sweep --out=" + path("out"), "--grid is required");
+  EXPECT_FALSE(fs::exists(path("out")));
+
+  const Result help = run("sweep --help");
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* flag : {"--grid", "--jobs", "--threads", "--row", "--merge", "--emit"}) {
+    EXPECT_NE(help.out.find(flag), std::string::npos) << flag;
+  }
+  EXPECT_NE(run("--help").out.find("sweep"), std::string::npos);
+}
+
+// The Slurm engine itself: a one-node cluster on this machine (scripts/slurm_localhost.sh, as
+// root; CI installs slurm-wlm and munge), an array of 4 rows submitted with the emitted
+// submit.sh, and the merge job's results.csv.
+TEST_F(CliSweep, SlurmArrayOfFourRowsThroughTheRealEngine) {
+  const std::string script = std::string(RBAA_SOURCE_DIR) + "/scripts/slurm_localhost.sh";
+  const bool was_up = std::system(("bash " + script + " status >/dev/null 2>&1").c_str()) == 0;
+  const std::string log = path("slurm_start.txt");
+  const Result start = shell("bash " + script + " start 2>" + log);
+  const std::string& started = start.out;
+  if (start.exit_code != 0) {
+    std::string why = slurp(log);
+    while (!why.empty() && why.back() == '\n') why.pop_back();
+    GTEST_SKIP() << "no Slurm engine on this machine (" << why
+                 << "); install it with: bash scripts/slurm_localhost.sh install (as root)";
+  }
+  const std::string key = "export SLURM_CONF=";
+  ASSERT_EQ(started.rfind(key, 0), 0u) << started;
+  const std::string slurm_conf = started.substr(key.size(), started.find('\n') - key.size());
+  const std::string env = "SLURM_CONF=" + slurm_conf + " ";
+
+  const std::string grid =
+      write_file("grid.yaml", star_grid("product:\n"
+                                        "  object.velocity: [[0, -10, -10], [0, -5, -5]]\n"
+                                        "  time.duration: [0.034, 0.0667]\n"));
+  const Result emit = run("sweep --grid=" + grid + " --out=" + path("out") + " --emit=slurm");
+  ASSERT_EQ(emit.exit_code, 0) << emit.err;
+  EXPECT_NE(emit.err.find("submit with: bash " + path("out/slurm/submit.sh")), std::string::npos)
+      << emit.err;
+  EXPECT_FALSE(fs::exists(path("out/row-000")));  // emitting runs nothing
+
+  const Result submit = shell(env + "bash " + path("out/slurm/submit.sh") + " 2>&1");
+  ASSERT_EQ(submit.exit_code, 0) << submit.out;
+  EXPECT_NE(submit.out.find("(4 tasks), merge job "), std::string::npos) << submit.out;
+  // "array job A (4 tasks), merge job M -> ..."
+  const std::string array_id = submit.out.substr(10, submit.out.find(' ', 10) - 10);
+  const size_t m = submit.out.find("merge job ") + 10;
+  const std::string merge_id = submit.out.substr(m, submit.out.find(' ', m) - m);
+
+  // The merge job writes merge.out when it ends; rows take a second or two each.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(8);
+  std::string merged;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const std::string queue =
+        shell(env + "squeue -h -o %i -j " + array_id + "," + merge_id + " 2>/dev/null").out;
+    if (queue.empty() && fs::exists(path("out/slurm/merge.out"))) break;
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+  }
+  const std::string results = slurp(path("out/results.csv"));
+  if (results.empty()) {
+    (void)std::system((env + "scancel " + array_id + " " + merge_id + " 2>/dev/null").c_str());
+  }
+  const auto table = csv_rows(results);
+  ASSERT_EQ(table.size(), 5u) << results << slurp(path("out/slurm/merge.out"));
+  const auto& h = table[0];
+  for (int row = 0; row < 4; ++row) {
+    EXPECT_EQ(table[row + 1][column(h, "status")], "ok")
+        << results << slurp(path("out/slurm/row-" + std::to_string(row) + ".out"));
+    EXPECT_TRUE(fs::exists(path("out/slurm/row-" + std::to_string(row) + ".out")));
+  }
+  EXPECT_EQ(table[1][column(h, "steps")], "1");
+  EXPECT_EQ(table[2][column(h, "steps")], "2");
+  EXPECT_EQ(table[3][column(h, "object.velocity")], "[0, -5, -5]");
+  // Each task ran on its --cpus-per-task=1 (SLURM_CPUS_PER_TASK), not on the node's cores.
+  EXPECT_EQ(report("out", 0)["timing"]["threads"].get<int>(), 1);
+  EXPECT_NE(slurp(path("out/slurm/merge.out")).find("4 rows: 4 ok"), std::string::npos);
+
+  if (!was_up) (void)std::system(("bash " + script + " stop").c_str());
+}
+
+}  // namespace
