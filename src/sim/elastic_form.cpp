@@ -95,13 +95,41 @@ void ElasticForm::add_gradient(const Eigen::VectorXd& q, double scale, Eigen::Ve
     Eigen::Map<Eigen::Matrix<double, 3, 4>>(buf + 12 * std::size_t(e)) = P * B_[e];
   }
   const int nv = static_cast<int>(incidence_start_.size()) - 1;
+  Eigen::VectorXd& f = vertex_buffer_;
+  f.resize(3 * nv);
 #pragma omp parallel for schedule(static) if (nv > kParallelVertices)
   for (int v = 0; v < nv; ++v) {
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (int s = incidence_start_[v]; s < incidence_start_[v + 1]; ++s) {
       g += Eigen::Map<const Eigen::Vector3d>(buf + 3 * std::size_t(incidence_[s]));
     }
-    grad.segment<3>(3 * v) += scale * g;
+    f.segment<3>(3 * v) = g;
+  }
+  // Elastic forces are internal: their sum and their torque vanish exactly (Psi is invariant under
+  // translations and rotations), but in floating point each is left with the round-off of
+  // thousands of element forces of a Y = 1e13 body. Only the body's mass resists those six rigid
+  // directions, so Newton's step kept a rigid drift of ~1e-12 m per step that no iteration
+  // removes (the ball at newton.tolerance 1e-10 stopped 8 steps at a round-off floor of 8.9e-11
+  // m/s, grinding 8-26 iterations a step). Removing the net force and torque (the least change
+  // a + b x r_i, uniform weights about the vertices' centroid) changes the gradient by round-off
+  // only, and its derivative, the Hessian, not at all.
+  Eigen::Vector3d c = Eigen::Vector3d::Zero(), F = Eigen::Vector3d::Zero(), T = Eigen::Vector3d::Zero();
+  for (int v = 0; v < nv; ++v) c += q.segment<3>(3 * v);
+  c /= nv;
+  Eigen::Matrix3d I = Eigen::Matrix3d::Zero();
+  for (int v = 0; v < nv; ++v) {
+    const Eigen::Vector3d r = q.segment<3>(3 * v) - c;
+    F += f.segment<3>(3 * v);
+    T += r.cross(f.segment<3>(3 * v));
+    I += r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose();
+  }
+  const Eigen::Vector3d a = F / nv;
+  Eigen::Vector3d b = I.ldlt().solve(T);
+  if (!b.allFinite()) b.setZero();  // fewer than three non-collinear vertices: no torque to fix
+#pragma omp parallel for schedule(static) if (nv > kParallelVertices)
+  for (int v = 0; v < nv; ++v) {
+    const Eigen::Vector3d r = q.segment<3>(3 * v) - c;
+    grad.segment<3>(3 * v) += scale * (f.segment<3>(3 * v) - a - b.cross(r));
   }
 }
 

@@ -192,5 +192,41 @@ TEST(ElasticForm, ParameterSplitIsLinearInMuAndLambda) {
   EXPECT_LT((g - g_sum).norm(), 1e-12 * g.norm());
 }
 
+// Elastic forces are internal: their sum and their torque vanish. On a Y = 1e13 ball moved
+// rigidly far from the origin (3.4 m, as the ball's scene), the forces are round-off only (F = R
+// to ~1e-14), a random field. Its sum cancels already (each element's b_0 = -(b_1 + b_2 + b_3)),
+// but its torque was 1.8e-5 of sum |r||f| (measured with the removal disabled), and only the mass
+// resists it in Newton's step: the rotational drift that set the ball's round-off floor. The form
+// removes the net force and torque, leaving round-off of round-off (~1e-17).
+TEST(ElasticForm, ForcesHaveNoNetForceOrTorque) {
+  const TetMesh mesh = test::ball_mesh(0.121, 5);
+  const ElasticForm form(mesh, MaterialField::uniform(mesh.num_tets(), 1e13, 0.28, 2500.0));
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.9, Eigen::Vector3d(0.2, 0.7, -0.4).normalized()).toRotationMatrix();
+  const Eigen::Vector3d t(0.34, -0.23, 3.45);
+  for (double strain : {0.0, 1e-6}) {
+    Eigen::VectorXd q = test::deformed(mesh, strain, 7);
+    for (Eigen::Index v = 0; v < q.size() / 3; ++v) q.segment<3>(3 * v) = R * q.segment<3>(3 * v) + t;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(q.size());
+    form.add_gradient(q, 1.0, g);
+    Eigen::Vector3d c = Eigen::Vector3d::Zero(), net = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+    const Eigen::Index nv = q.size() / 3;
+    for (Eigen::Index v = 0; v < nv; ++v) c += q.segment<3>(3 * v) / double(nv);
+    double size = 0, moment = 0;
+    for (Eigen::Index v = 0; v < nv; ++v) {
+      const Eigen::Vector3d r = q.segment<3>(3 * v) - c, f = g.segment<3>(3 * v);
+      net += f;
+      torque += r.cross(f);
+      size += f.norm();
+      moment += r.norm() * f.norm();
+    }
+    std::printf("strain %.0e: sum |f_i| %.3e N, |net force| / sum %.2e, |net torque| / sum |r||f| %.2e\n",
+                strain, size, net.norm() / size, torque.norm() / moment);
+    EXPECT_GT(size, 0.0);  // round-off forces exist even at rest
+    EXPECT_LE(net.norm(), 1e-12 * size);
+    EXPECT_LE(torque.norm(), 1e-12 * moment);
+  }
+}
+
 }  // namespace
 }  // namespace rbaa

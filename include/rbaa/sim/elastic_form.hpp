@@ -51,6 +51,7 @@ class ElasticForm : public Form {
   std::vector<Eigen::Matrix<double, 3, 4>> B_;
   Eigen::VectorXd volume_, weight_, mu_, lambda_;
   mutable std::vector<double> element_buffer_;  // per-element energies or 12-gradients
+  mutable Eigen::VectorXd vertex_buffer_;        // the gathered gradient before its net force and torque go
   std::vector<int> incidence_start_, incidence_;
 };
 
