@@ -16,8 +16,12 @@ Bvh::Bvh(std::vector<Aabb> boxes) : boxes_(std::move(boxes)) {
   if (boxes_.empty()) return;
   order_.resize(boxes_.size());
   std::iota(order_.begin(), order_.end(), 0);
+  centres_.resize(boxes_.size());
+  for (std::size_t i = 0; i < boxes_.size(); ++i) centres_[i] = boxes_[i].center();
   nodes_.reserve(2 * boxes_.size() / kLeafSize + 1);
   build(0, static_cast<int>(boxes_.size()));
+  centres_.clear();
+  centres_.shrink_to_fit();
 }
 
 int Bvh::build(int begin, int end) {
@@ -26,7 +30,7 @@ int Bvh::build(int begin, int end) {
   Aabb box, centres;
   for (int k = begin; k < end; ++k) {
     box.extend(boxes_[order_[k]]);
-    centres.extend(boxes_[order_[k]].center());
+    centres.extend(centres_[order_[k]]);
   }
   nodes_[index].box = box;
   if (end - begin <= kLeafSize) {

@@ -189,6 +189,31 @@ TEST(ContactBroadPhase, ReportsEveryPairThatComesClose) {
   EXPECT_GT(close_ee, 100);
 }
 
+// The filter drops exactly the pairs it refuses: here the two sheets are two bodies and pairs
+// within one sheet are dropped.
+TEST(ContactBroadPhase, FilterDropsPairsWithinABody) {
+  std::mt19937 rng(54);
+  const int n = 10;
+  const Mesh m = two_sheets(rng, n);
+  const auto body = [&](int v) { return v / (n * n); };
+  const CanCollide different_bodies = [&](int u, int v) { return body(u) != body(v); };
+  const auto vt_all = vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01);
+  const auto vt = vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01, different_bodies);
+  std::vector<VertexTriangleCandidate> vt_expected;
+  for (const auto& c : vt_all)
+    if (body(c.vertex) != body(m.F(c.triangle, 0))) vt_expected.push_back(c);
+  EXPECT_EQ(vt, vt_expected);
+  EXPECT_LT(vt.size(), vt_all.size());
+  EXPECT_FALSE(vt.empty());
+  const auto ee_all = edge_edge_candidates(m.V0, m.V1, m.E, 0.01);
+  const auto ee = edge_edge_candidates(m.V0, m.V1, m.E, 0.01, different_bodies);
+  std::vector<EdgeEdgeCandidate> ee_expected;
+  for (const auto& c : ee_all)
+    if (body(m.E(c.edge_a, 0)) != body(m.E(c.edge_b, 0))) ee_expected.push_back(c);
+  EXPECT_EQ(ee, ee_expected);
+  EXPECT_FALSE(ee.empty());
+}
+
 TEST(ContactBroadPhase, BvhQueryVisitsEachOverlapOnce) {
   std::mt19937 rng(53);
   std::vector<Aabb> boxes(1000);

@@ -3,13 +3,15 @@
 // `inflation` of each other during a linear step V0 -> V1, from their swept, inflated bounding
 // boxes and a BVH (bvh.hpp). Every pair that does is reported (the test is conservative); pairs
 // that share a vertex are not (their distance is zero by construction). Bodies and obstacle
-// meshes are one stacked surface here; a caller that must skip pairs within one rigid body, say,
-// filters the output.
+// meshes are one stacked surface here; `can_collide(u, v)`, given one vertex of each primitive
+// (primitives never span two bodies), drops pairs that cannot touch, e.g. obstacle against
+// obstacle, before they are stored.
 //
 // Shapes: V0, V1 #V by 3 (equal for a static query), F #F by 3 triangles, E #E by 2 edges, both
 // indexing rows of V0 / V1.
 
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 namespace rbaa::contact {
@@ -30,16 +32,22 @@ struct EdgeEdgeCandidate {
   }
 };
 
+/// Whether primitives holding vertices u and v may touch; empty: all may.
+using CanCollide = std::function<bool(int u, int v)>;
+
 /// Vertices (all rows of V0) against triangles whose swept boxes, inflated by `inflation` (m),
-/// overlap; sorted by (vertex, triangle).
+/// overlap, and for which can_collide(vertex, first corner); sorted by (vertex, triangle).
 std::vector<VertexTriangleCandidate> vertex_triangle_candidates(const Eigen::MatrixXd& V0,
                                                                 const Eigen::MatrixXd& V1,
                                                                 const Eigen::MatrixXi& F,
-                                                                double inflation);
+                                                                double inflation,
+                                                                const CanCollide& can_collide = {});
 
-/// Edge pairs whose swept boxes, inflated by `inflation` (m), overlap; sorted by (edge_a, edge_b).
+/// Edge pairs whose swept boxes, inflated by `inflation` (m), overlap, and for which
+/// can_collide(first vertex of a, first vertex of b); sorted by (edge_a, edge_b).
 std::vector<EdgeEdgeCandidate> edge_edge_candidates(const Eigen::MatrixXd& V0,
                                                     const Eigen::MatrixXd& V1,
-                                                    const Eigen::MatrixXi& E, double inflation);
+                                                    const Eigen::MatrixXi& E, double inflation,
+                                                    const CanCollide& can_collide = {});
 
 }  // namespace rbaa::contact

@@ -36,6 +36,7 @@ class Bvh {
   std::vector<Aabb> boxes_;
   std::vector<int> order_;  ///< box indices, grouped by leaf
   std::vector<Node> nodes_;
+  std::vector<Eigen::Vector3d> centres_;  ///< boxes' centres, during the build only
 };
 
 template <class Visit>
