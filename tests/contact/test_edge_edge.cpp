@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 
@@ -205,6 +206,38 @@ TEST(ContactEdgeEdge, ExactlyParallelEdges) {
   }
 }
 
+// Edges within 1e-3 .. 1e-9 of each other at a random pair of points, of the interiors, an
+// interior and an endpoint, or two endpoints, each type checked with its own formula, with the
+// step cbrt(eps d) and the conditioning allowance of point-triangle's DerivativesNearTheTriangle
+// (the distance is a sum of terms of size |r| cancelling to d).
+TEST(ContactEdgeEdge, DerivativesAtSmallDistances) {
+  std::mt19937 rng(27);
+  std::uniform_real_distribution<double> u(0, 1);
+  double worst = 0;
+  for (double d : {1e-3, 1e-6, 1e-9}) {
+    for (int i = 0; i < 300; ++i) {
+      Points4 x = random_edges(rng);
+      const double s = i % 3 == 2 ? 0.0 : u(rng), t = i % 3 == 0 ? u(rng) : 1.0;
+      const Eigen::Vector3d offset = x[0] + s * (x[1] - x[0]) - x[2] - t * (x[3] - x[2]) +
+                                     d * test::random_point(rng).normalized();
+      x[2] += offset;
+      x[3] += offset;
+      const T type = edge_edge_distance_type(x[0], x[1], x[2], x[3]);
+      const double dist = std::sqrt(edge_edge_distance(x[0], x[1], x[2], x[3]));
+      ASSERT_LE(dist, d * (1 + 1e-6));
+      const auto e = check_edges(x, type, std::cbrt(1e-16 * dist));
+      double r = 0;
+      for (int k = 0; k < 4; ++k) r = std::max(r, (x[k] - x[(k + 2) % 4]).norm());
+      const double conditioning = 10 * std::numeric_limits<double>::epsilon() * r / dist;
+      EXPECT_LT(e.max(), 1e-6 + conditioning) << d << " " << to_string(type) << " " << dist;
+      EXPECT_LT(std::max(e.hessian, e.hessian_along), 1e-6) << d << " " << to_string(type);
+      worst = std::max(worst, e.max() / (1e-6 + conditioning));
+    }
+  }
+  std::printf("edge-edge at small distances: worst FD error %.2f of (1e-6 + 10 eps |r| / d)\n",
+              worst);
+}
+
 TEST(ContactEdgeEdge, MatchesSampling) {
   std::mt19937 rng(24);
   const int n = 400;
@@ -221,6 +254,49 @@ TEST(ContactEdgeEdge, MatchesSampling) {
     const double cell = ((x[1] - x[0]).norm() + (x[3] - x[2]).norm()) / (2.0 * n);
     EXPECT_LE(std::sqrt(best) - std::sqrt(d), cell + 1e-12);
   }
+}
+
+// An independent reference for the squared segment distance: g(s) = min over t of
+// |ea(s) - eb(t)|^2 is convex in s (the squared distance to a convex set, composed with an affine
+// map), so a ternary search over s with the exact inner minimum converges to the true minimum.
+double segment_distance_reference(const Points4& x) {
+  const Eigen::Vector3d b = x[3] - x[2];
+  const auto g = [&](double s) {
+    const Eigen::Vector3d p = x[0] + s * (x[1] - x[0]);
+    const double t = std::clamp((p - x[2]).dot(b) / b.squaredNorm(), 0.0, 1.0);
+    return (p - x[2] - t * b).squaredNorm();
+  };
+  double lo = 0, hi = 1;
+  for (int k = 0; k < 200; ++k) {
+    const double m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+    (g(m1) < g(m2) ? hi : lo) = g(m1) < g(m2) ? m2 : m1;
+  }
+  return std::min({g(0.0), g(1.0), g((lo + hi) / 2)});
+}
+
+// Nearly parallel edges (1e-9 .. 1e-3 rad), where the type comes from line parameters divided by
+// |a x b|^2 and the line-line formula loses digits: the distance must still be the segments'
+// distance, within the formula's rounding: n = a x b has a relative error ~eps / theta, and so has
+// the line-line distance (2e-7 at 1e-9 rad); endpoint cases are exact to ~eps.
+TEST(ContactEdgeEdge, NearlyParallelMatchesReference) {
+  std::mt19937 rng(26);
+  double worst = 0;
+  for (int i = 0; i < 700; ++i) {
+    const double angle = std::pow(10.0, -9 + 6 * (i % 7) / 6.0);
+    const Eigen::Vector3d dir = test::random_point(rng).normalized();
+    const Eigen::Vector3d side = dir.cross(test::random_point(rng)).normalized();
+    const Eigen::Vector3d ea0 = test::random_point(rng), eb0 = ea0 + test::random_point(rng, 0.5);
+    const Points4 x = {ea0, ea0 + dir, eb0,
+                       eb0 + 0.8 * (std::cos(angle) * dir + std::sin(angle) * side)};
+    const double d = edge_edge_distance(x[0], x[1], x[2], x[3]);
+    const double ref = segment_distance_reference(x);
+    const double err = std::abs(d - ref) / ref;
+    EXPECT_LT(err, 1e-15 + 10 * std::numeric_limits<double>::epsilon() / angle)
+        << angle << " " << to_string(edge_edge_distance_type(x[0], x[1], x[2], x[3]));
+    worst = std::max(worst, err * angle);
+  }
+  std::printf("nearly parallel edges: |d - reference| / d <= %.2f eps / angle\n",
+              worst / std::numeric_limits<double>::epsilon());
 }
 
 TEST(ContactEdgeEdge, Symmetries) {

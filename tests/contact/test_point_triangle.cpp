@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 
 #include "contact_checks.hpp"
 #include "rbaa/contact/point_plane.hpp"
@@ -137,6 +138,41 @@ TEST(ContactPointTriangle, VertexOverAnEdgeAndACorner) {
       }
     }
   }
+}
+
+// Random triangles with the point within 1e-3 .. 1e-9 of a random spot of the face, of an edge or
+// at a corner (most near a region boundary; an offset nearly in the plane leaves it much closer),
+// each type checked with its own formula; the step cbrt(eps d) as above. Here the corners are not
+// exact: the signed distance (p - t0).n / |n| sums terms of size |p - t0| that cancel to d, so the
+// distance, and with it the analytic gradient 2 d n / |n|, carry a relative error ~eps |r| / d
+// (|r| the largest corner distance): the conditioning of the input, 1e-4 at d = 1e-12.
+TEST(ContactPointTriangle, DerivativesNearTheTriangle) {
+  std::mt19937 rng(15);
+  std::uniform_real_distribution<double> u(0, 1);
+  double worst = 0;
+  for (double d : {1e-3, 1e-6, 1e-9}) {
+    for (int i = 0; i < 300; ++i) {
+      Points4 x = random_point_and_triangle(rng);
+      double a = u(rng), b = u(rng);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      if (i % 3 == 1) b = 0;         // on edge t0t1
+      if (i % 3 == 2) a = 0, b = 0;  // at corner t0
+      const Eigen::Vector3d on = x[1] + a * (x[2] - x[1]) + b * (x[3] - x[1]);
+      x[0] = on + d * test::random_point(rng).normalized();
+      const T type = point_triangle_distance_type(x[0], x[1], x[2], x[3]);
+      const double dist = std::sqrt(point_triangle_distance(x[0], x[1], x[2], x[3]));
+      ASSERT_LE(dist, d * (1 + 1e-6));
+      const auto e = check_triangle(x, type, std::cbrt(1e-16 * dist));
+      double r = 0;
+      for (int k = 1; k < 4; ++k) r = std::max(r, (x[k] - x[0]).norm());
+      const double conditioning = 10 * std::numeric_limits<double>::epsilon() * r / dist;
+      EXPECT_LT(e.max(), 1e-6 + conditioning) << d << " " << to_string(type) << " " << dist;
+      EXPECT_LT(std::max(e.hessian, e.hessian_along), 1e-6) << d << " " << to_string(type);
+      worst = std::max(worst, e.max() / (1e-6 + conditioning));
+    }
+  }
+  std::printf("point-triangle near the triangle: worst FD error %.2f of (1e-6 + 10 eps |r| / d)\n",
+              worst);
 }
 
 TEST(ContactPointTriangle, MatchesSampling) {
