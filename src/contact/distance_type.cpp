@@ -91,6 +91,11 @@ PointTriangleDistanceType point_triangle_distance_type(const Eigen::Vector3d& p,
   // 5.1.5): d1..d6 place p against the corners along the two edges out of t0; va, vb, vc are
   // (twice the triangle's area times) the barycentric coordinates of p's projection.
   const Eigen::Vector3d ab = t1 - t0, ac = t2 - t0;
+  // A triangle with no area to speak of has no plane, and a zero-length edge no line: its closest
+  // feature is found among its edges (as segments, which handle zero length).
+  const double area2 = ab.cross(ac).squaredNorm();
+  if (!(area2 > kParallelThreshold * ab.squaredNorm() * ac.squaredNorm()))
+    return closest_triangle_edge(p, {t0, t1, t2});
   const Eigen::Vector3d ap = p - t0;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0 && d2 <= 0) return T::P_T0;
@@ -106,11 +111,6 @@ PointTriangleDistanceType point_triangle_distance_type(const Eigen::Vector3d& p,
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return T::P_E2;
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return T::P_E1;
-  // Inside the face's prism, unless the triangle has no area to speak of: then its plane is
-  // undefined and the closest point lies on an edge.
-  const double area2 = ab.cross(ac).squaredNorm();
-  if (!(area2 > kParallelThreshold * ab.squaredNorm() * ac.squaredNorm()))
-    return closest_triangle_edge(p, {t0, t1, t2});
   return T::P_T;
 }
 

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "contact_checks.hpp"
@@ -115,6 +116,13 @@ TEST(ContactDistanceType, DegenerateTriangleNeverAnswersTheFace) {
   const PointTriangleDistanceType type = point_triangle_distance_type(p, t0, t1, t2);
   EXPECT_NE(type, PointTriangleDistanceType::P_T);
   EXPECT_NEAR(point_triangle_distance(p, t0, t1, t2, type), 0.25, 1e-15);
+  // A zero-length edge (t1 = t0), with p where the region tests would name that edge: the
+  // answer is a corner or the other edge, and the distance is finite.
+  for (const V& q : {V(0.5, 0.4, 0.3), V(-0.5, 0.4, 0.3), V(0.5, -0.4, 0.3)}) {
+    const PointTriangleDistanceType t = point_triangle_distance_type(q, t0, t0, t2);
+    EXPECT_TRUE(std::isfinite(point_triangle_distance(q, t0, t0, t2, t))) << to_string(t);
+    EXPECT_NEAR(point_triangle_distance(q, t0, t0, t2), point_edge_distance(q, t0, t2), 1e-15);
+  }
 }
 
 struct EdgeCase {

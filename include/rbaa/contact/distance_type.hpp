@@ -38,8 +38,9 @@ PointEdgeDistanceType point_edge_distance_type(const Eigen::Vector3d& p, const E
                                                const Eigen::Vector3d& e1);
 
 /// Closest feature of the triangle to p, by the Voronoi regions of its corners, edges and face
-/// (signs of dot products and of sub-areas, no division). A zero-area triangle never answers P_T:
-/// its closest edge or corner is returned.
+/// (signs of dot products and of sub-areas, no division). A degenerate triangle (|ab x ac|^2 <=
+/// kParallelThreshold |ab|^2 |ac|^2, including a zero-length edge) never answers P_T or the
+/// line of a zero-length edge: its closest edge or corner as segments is returned.
 PointTriangleDistanceType point_triangle_distance_type(const Eigen::Vector3d& p,
                                                        const Eigen::Vector3d& t0,
                                                        const Eigen::Vector3d& t1,
