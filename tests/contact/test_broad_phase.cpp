@@ -189,29 +189,48 @@ TEST(ContactBroadPhase, ReportsEveryPairThatComesClose) {
   EXPECT_GT(close_ee, 100);
 }
 
-// The filter drops exactly the pairs it refuses: here the two sheets are two bodies and pairs
-// within one sheet are dropped.
-TEST(ContactBroadPhase, FilterDropsPairsWithinABody) {
+// Groups drop exactly the pairs within one group: here the two sheets are two bodies. A third
+// grouping (alternating rows) checks pairs spread over several groups.
+TEST(ContactBroadPhase, GroupsDropPairsWithinAGroup) {
   std::mt19937 rng(54);
   const int n = 10;
   const Mesh m = two_sheets(rng, n);
-  const auto body = [&](int v) { return v / (n * n); };
-  const CanCollide different_bodies = [&](int u, int v) { return body(u) != body(v); };
-  const auto vt_all = vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01);
-  const auto vt = vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01, different_bodies);
-  std::vector<VertexTriangleCandidate> vt_expected;
-  for (const auto& c : vt_all)
-    if (body(c.vertex) != body(m.F(c.triangle, 0))) vt_expected.push_back(c);
-  EXPECT_EQ(vt, vt_expected);
-  EXPECT_LT(vt.size(), vt_all.size());
-  EXPECT_FALSE(vt.empty());
-  const auto ee_all = edge_edge_candidates(m.V0, m.V1, m.E, 0.01);
-  const auto ee = edge_edge_candidates(m.V0, m.V1, m.E, 0.01, different_bodies);
-  std::vector<EdgeEdgeCandidate> ee_expected;
-  for (const auto& c : ee_all)
-    if (body(m.E(c.edge_a, 0)) != body(m.E(c.edge_b, 0))) ee_expected.push_back(c);
-  EXPECT_EQ(ee, ee_expected);
-  EXPECT_FALSE(ee.empty());
+  for (int grouping = 0; grouping < 2; ++grouping) {
+    std::vector<int> groups(m.V0.rows());
+    for (int v = 0; v < m.V0.rows(); ++v) groups[v] = grouping == 0 ? v / (n * n) : (v / n) % 3;
+    const auto vt_all = vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01);
+    const auto vt = vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01, groups);
+    std::vector<VertexTriangleCandidate> vt_expected;
+    for (const auto& c : vt_all)
+      if (groups[c.vertex] != groups[m.F(c.triangle, 0)]) vt_expected.push_back(c);
+    EXPECT_EQ(vt, vt_expected);
+    EXPECT_LT(vt.size(), vt_all.size());
+    EXPECT_FALSE(vt.empty());
+    const auto ee_all = edge_edge_candidates(m.V0, m.V1, m.E, 0.01);
+    const auto ee = edge_edge_candidates(m.V0, m.V1, m.E, 0.01, groups);
+    std::vector<EdgeEdgeCandidate> ee_expected;
+    for (const auto& c : ee_all)
+      if (groups[m.E(c.edge_a, 0)] != groups[m.E(c.edge_b, 0)]) ee_expected.push_back(c);
+    EXPECT_EQ(ee, ee_expected);
+    EXPECT_FALSE(ee.empty());
+  }
+  EXPECT_THROW(vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01, std::vector<int>(3, 0)),
+               std::invalid_argument);
+}
+
+// The simulator's stacked coordinates q = (x0, y0, z0, x1, ...) map onto row-major positions.
+TEST(ContactBroadPhase, TakesStackedCoordinates) {
+  std::mt19937 rng(55);
+  const Mesh m = two_sheets(rng, 8);
+  const Positions P0 = m.V0, P1 = m.V1;
+  const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(P0.data(), P0.size());
+  const Eigen::VectorXd q1 = Eigen::Map<const Eigen::VectorXd>(P1.data(), P1.size());
+  const Eigen::Map<const Positions> V0(q0.data(), q0.size() / 3, 3),
+      V1(q1.data(), q1.size() / 3, 3);
+  EXPECT_EQ(vertex_triangle_candidates(V0, V1, m.F, 0.01),
+            vertex_triangle_candidates(m.V0, m.V1, m.F, 0.01));
+  EXPECT_EQ(edge_edge_candidates(V0, V1, m.E, 0.01), edge_edge_candidates(m.V0, m.V1, m.E, 0.01));
+  EXPECT_EQ(q0[3], m.V0(1, 0));
 }
 
 TEST(ContactBroadPhase, BvhQueryVisitsEachOverlapOnce) {

@@ -6,6 +6,7 @@
 // thousands of small ones share one tree without a cell size to tune.
 
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 #include "rbaa/contact/aabb.hpp"
@@ -36,7 +37,8 @@ class Bvh {
   std::vector<Aabb> boxes_;
   std::vector<int> order_;  ///< box indices, grouped by leaf
   std::vector<Node> nodes_;
-  std::vector<Eigen::Vector3d> centres_;  ///< boxes' centres, during the build only
+  std::vector<Eigen::Vector3d> centres_;       ///< boxes' centres, during the build only
+  std::vector<std::pair<double, int>> keyed_;  ///< partition buffer, during the build only
 };
 
 template <class Visit>
