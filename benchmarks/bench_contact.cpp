@@ -1,0 +1,214 @@
+// The contact module's broad and narrow phase on a ball against a basketball rim and backboard
+// (issue 19 item 6 asks for broad + narrow phase <= 15 % of a Newton iteration; this binary gives
+// the contact side of that ratio until the module is wired into the simulator and bench_newton
+// can print both from one run). The ball is an icosphere of the SPEC's radius 0.121 m, the rim a
+// torus tube (0.4572 m inner diameter, 1 cm tube), the backboard one rectangle (two triangles);
+// the ball sits 0.5 mm from the rim and moves 3.5 cm towards it and sideways in the step, about
+// one 0.01 s step at the ball's speed. d_hat = 1e-3 m.
+//
+//   ./build/benchmarks/bench_contact
+
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "rbaa/contact/additive_ccd.hpp"
+#include "rbaa/contact/broad_phase.hpp"
+#include "rbaa/contact/edge_edge.hpp"
+#include "rbaa/contact/edge_edge_mollifier.hpp"
+#include "rbaa/contact/point_triangle.hpp"
+#include "rbaa/mesh/primitives.hpp"
+
+namespace {
+
+using rbaa::contact::Edges;
+using rbaa::contact::Positions;
+using rbaa::contact::Triangles;
+
+constexpr double kDHat = 1e-3;
+
+struct World {
+  Positions V0, V1;
+  Triangles F;
+  Edges E;
+  std::vector<int> body;  ///< per vertex: 0 ball, 1 rim, 2 backboard
+};
+
+void append(World& w, const Positions& V, const Triangles& F, int body) {
+  const Eigen::Index offset = w.V0.rows();
+  w.V0.conservativeResize(offset + V.rows(), 3);
+  w.V0.bottomRows(V.rows()) = V;
+  const Eigen::Index f0 = w.F.rows();
+  w.F.conservativeResize(f0 + F.rows(), 3);
+  w.F.bottomRows(F.rows()) = F.array() + int(offset);
+  w.body.resize(w.V0.rows(), body);
+}
+
+// A torus about +z: major radius R, tube radius r, n x m quads split in two.
+void torus(double R, double r, int n, int m, Positions& V, Triangles& F) {
+  V.resize(n * m, 3);
+  F.resize(2 * n * m, 3);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m;
+      V.row(i * m + j) << (R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+          r * std::sin(v);
+      const int a = i * m + j, b = i * m + (j + 1) % m, c = ((i + 1) % n) * m + j,
+                d = ((i + 1) % n) * m + (j + 1) % m;
+      F.row(2 * (i * m + j)) << a, c, d;
+      F.row(2 * (i * m + j) + 1) << a, d, b;
+    }
+}
+
+World make_world(int subdivisions) {
+  World w;
+  const rbaa::SurfaceMesh ball = rbaa::sphere_surface(0.121, subdivisions);
+  Positions rim_V;
+  Triangles rim_F;
+  const double rim_R = 0.4572 / 2 + 0.01, rim_r = 0.01;
+  torus(rim_R, rim_r, 96, 12, rim_V, rim_F);
+  // The ball just above the rim's front, 0.5 mm from the tube.
+  const Eigen::RowVector3d centre(rim_R, 0, rim_r + 0.121 + 5e-4);
+  Positions ball_V = ball.V;
+  ball_V.rowwise() += centre;
+  append(w, ball_V, ball.F, 0);
+  append(w, rim_V, rim_F, 1);
+  // The backboard: x = -(rim_R + 0.151), 1.8 m wide, 1.05 m high.
+  Positions board(4, 3);
+  const double bx = -(rim_R + 0.151);
+  board << bx, -0.9, -0.3, bx, 0.9, -0.3, bx, 0.9, 0.75, bx, -0.9, 0.75;
+  Triangles board_F(2, 3);
+  board_F << 0, 1, 2, 0, 2, 3;
+  append(w, board, board_F, 2);
+  w.V1 = w.V0;
+  for (Eigen::Index v = 0; v < w.V0.rows(); ++v)
+    if (w.body[v] == 0) w.V1.row(v) += Eigen::RowVector3d(-0.02, 0.01, -0.025);
+  std::set<std::pair<int, int>> edges;
+  for (Eigen::Index f = 0; f < w.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = w.F(f, k), b = w.F(f, (k + 1) % 3);
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  w.E.resize(edges.size(), 2);
+  int i = 0;
+  for (const auto& [a, b] : edges) w.E.row(i++) << a, b;
+  return w;
+}
+
+const World& world() {
+  static const World w = make_world(4);
+  static bool printed = false;
+  if (!printed) {
+    printed = true;
+    std::printf("ball + rim + backboard: %lld vertices, %lld triangles, %lld edges\n",
+                (long long)w.V0.rows(), (long long)w.F.rows(), (long long)w.E.rows());
+  }
+  return w;
+}
+
+// Ball, rim and backboard each a group; the rim and the backboard could share one (both static).
+const std::vector<int>& body_groups() { return world().body; }
+
+Eigen::Vector3d row(const Positions& V, int v) { return V.row(v).transpose(); }
+
+// Candidates swept over the step V0 -> V1 (the CCD's, once per Newton iteration: the line search
+// only shortens the step, so boxes over the whole step cover it).
+void BM_BroadPhase(benchmark::State& state) {
+  const World& w = world();
+  std::size_t vt = 0, ee = 0;
+  for (auto _ : state) {
+    vt = rbaa::contact::vertex_triangle_candidates(w.V0, w.V1, w.F, kDHat, body_groups()).size();
+    ee = rbaa::contact::edge_edge_candidates(w.V0, w.V1, w.E, kDHat, body_groups()).size();
+  }
+  state.counters["vertex_triangle"] = double(vt);
+  state.counters["edge_edge"] = double(ee);
+}
+BENCHMARK(BM_BroadPhase)->Unit(benchmark::kMillisecond);
+
+// The same at one configuration (V1 = V0): the active set's candidates, once per Newton iterate.
+void BM_BroadPhaseStatic(benchmark::State& state) {
+  const World& w = world();
+  std::size_t vt = 0, ee = 0;
+  for (auto _ : state) {
+    vt = rbaa::contact::vertex_triangle_candidates(w.V0, w.V0, w.F, kDHat, body_groups()).size();
+    ee = rbaa::contact::edge_edge_candidates(w.V0, w.V0, w.E, kDHat, body_groups()).size();
+  }
+  state.counters["vertex_triangle"] = double(vt);
+  state.counters["edge_edge"] = double(ee);
+}
+BENCHMARK(BM_BroadPhaseStatic)->Unit(benchmark::kMillisecond);
+
+// What the contact form does per Newton iteration on the active pairs: classify, squared
+// distance, gradient and Hessian (and the mollifier for edge-edge), for every candidate at V0.
+void BM_NarrowPhaseDerivatives(benchmark::State& state) {
+  const World& w = world();
+  const auto vt = rbaa::contact::vertex_triangle_candidates(w.V0, w.V0, w.F, kDHat, body_groups());
+  const auto ee = rbaa::contact::edge_edge_candidates(w.V0, w.V0, w.E, kDHat, body_groups());
+  int active = 0;
+  for (auto _ : state) {
+    active = 0;
+    double sink = 0;
+    for (const auto& c : vt) {
+      const auto p = row(w.V0, c.vertex), t0 = row(w.V0, w.F(c.triangle, 0)),
+                 t1 = row(w.V0, w.F(c.triangle, 1)), t2 = row(w.V0, w.F(c.triangle, 2));
+      const auto type = rbaa::contact::point_triangle_distance_type(p, t0, t1, t2);
+      const double d = rbaa::contact::point_triangle_distance(p, t0, t1, t2, type);
+      if (d >= kDHat * kDHat) continue;
+      ++active;
+      sink += rbaa::contact::point_triangle_distance_gradient(p, t0, t1, t2, type).sum();
+      sink += rbaa::contact::point_triangle_distance_hessian(p, t0, t1, t2, type).sum();
+    }
+    for (const auto& c : ee) {
+      const auto a0 = row(w.V0, w.E(c.edge_a, 0)), a1 = row(w.V0, w.E(c.edge_a, 1)),
+                 b0 = row(w.V0, w.E(c.edge_b, 0)), b1 = row(w.V0, w.E(c.edge_b, 1));
+      const auto type = rbaa::contact::edge_edge_distance_type(a0, a1, b0, b1);
+      const double d = rbaa::contact::edge_edge_distance(a0, a1, b0, b1, type);
+      if (d >= kDHat * kDHat) continue;
+      ++active;
+      const double eps_x = rbaa::contact::edge_edge_mollifier_threshold(a0, a1, b0, b1);
+      sink += rbaa::contact::edge_edge_distance_gradient(a0, a1, b0, b1, type).sum();
+      sink += rbaa::contact::edge_edge_distance_hessian(a0, a1, b0, b1, type).sum();
+      sink += rbaa::contact::edge_edge_mollifier_hessian(a0, a1, b0, b1, eps_x).sum();
+    }
+    benchmark::DoNotOptimize(sink);
+  }
+  state.counters["candidates"] = double(vt.size() + ee.size());
+  state.counters["active"] = active;
+}
+BENCHMARK(BM_NarrowPhaseDerivatives)->Unit(benchmark::kMillisecond);
+
+// The line search's max_step_size: CCD of every swept candidate over the step V0 -> V1.
+void BM_Ccd(benchmark::State& state) {
+  const World& w = world();
+  const auto vt = rbaa::contact::vertex_triangle_candidates(w.V0, w.V1, w.F, kDHat, body_groups());
+  const auto ee = rbaa::contact::edge_edge_candidates(w.V0, w.V1, w.E, kDHat, body_groups());
+  double toi = 1;
+  for (auto _ : state) {
+    toi = 1;
+    for (const auto& c : vt) {
+      const int v[4] = {c.vertex, w.F(c.triangle, 0), w.F(c.triangle, 1), w.F(c.triangle, 2)};
+      toi = std::min(toi, rbaa::contact::point_triangle_max_step_size(
+                              row(w.V0, v[0]), row(w.V0, v[1]), row(w.V0, v[2]), row(w.V0, v[3]),
+                              row(w.V1, v[0]), row(w.V1, v[1]), row(w.V1, v[2]), row(w.V1, v[3])));
+    }
+    for (const auto& c : ee) {
+      const int v[4] = {w.E(c.edge_a, 0), w.E(c.edge_a, 1), w.E(c.edge_b, 0), w.E(c.edge_b, 1)};
+      toi = std::min(toi, rbaa::contact::edge_edge_max_step_size(
+                              row(w.V0, v[0]), row(w.V0, v[1]), row(w.V0, v[2]), row(w.V0, v[3]),
+                              row(w.V1, v[0]), row(w.V1, v[1]), row(w.V1, v[2]), row(w.V1, v[3])));
+    }
+    benchmark::DoNotOptimize(toi);
+  }
+  state.counters["candidates"] = double(vt.size() + ee.size());
+  state.counters["toi"] = toi;
+}
+BENCHMARK(BM_Ccd)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
