@@ -36,11 +36,14 @@ fi
 
 # libceres-dev pulls in ATLAS and Debian's alternatives may then pick it as the system BLAS and
 # LAPACK; CHOLMOD factorised the ball's system ~3x slower under ATLAS than under OpenBLAS on two
-# threads (SPEC section 9). Point every BLAS/LAPACK alternative at OpenBLAS.
+# threads (SPEC section 9). Point every BLAS/LAPACK alternative at OpenBLAS's pthread build, by
+# name: where the OpenMP build is installed too it sorts first, and it factorised 2-6x slower
+# (bench_newton, ball 123-394 ms against 65-68 ms; issue 15). The serial build ties with the
+# pthread build on one thread, which rbaa sets (sim/threads.hpp).
 arch=$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || echo x86_64-linux-gnu)
 for name in libblas.so.3 liblapack.so.3 libblas.so liblapack.so; do
   alt="${name}-${arch}"
-  target=$(update-alternatives --list "$alt" 2>/dev/null | grep openblas | head -n1 || true)
+  target=$(update-alternatives --list "$alt" 2>/dev/null | grep openblas-pthread | head -n1 || true)
   if [ -n "$target" ]; then
     $SUDO update-alternatives --set "$alt" "$target" >/dev/null
   fi
