@@ -70,6 +70,8 @@ void BM_FactorizationSimplicial(benchmark::State& state, Fixture* f) {
   const Eigen::SparseMatrix<double> H = E.hessian(f->x, rbaa::HessianKind::kProjected);
   Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
   llt.analyzePattern(H);
+  // CHOLMOD's own rule (supernodal_switch, default 40) picks supernodal when flops / nnz(L) >= 40.
+  state.counters["flops_per_lnz"] = llt.cholmod().fl / llt.cholmod().lnz;
   for (auto _ : state) {
     llt.factorize(H);
     benchmark::DoNotOptimize(llt.info());
