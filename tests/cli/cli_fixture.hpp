@@ -37,15 +37,21 @@ class Cli : public ::testing::Test {
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  Result run(const std::string& args) {
-    const std::string err_file = (dir_ / "stderr.txt").string();
-    const std::string cmd = std::string(RBAA_EXECUTABLE) + " " + args + " 2>" + err_file;
+  /// Runs a shell command and returns its exit code and stdout.
+  static Result shell(const std::string& command) {
     Result r{0, "", ""};
-    FILE* pipe = popen(cmd.c_str(), "r");
+    FILE* pipe = popen(command.c_str(), "r");
     char buffer[4096];
     while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) r.out.append(buffer, n);
     const int status = pclose(pipe);
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+  }
+
+  /// Runs rbaa with `args`; stderr in Result::err.
+  Result run(const std::string& args) {
+    const std::string err_file = (dir_ / "stderr.txt").string();
+    Result r = shell(std::string(RBAA_EXECUTABLE) + " " + args + " 2>" + err_file);
     std::ifstream in(err_file);
     std::stringstream ss;
     ss << in.rdbuf();

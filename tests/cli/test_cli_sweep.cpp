@@ -65,17 +65,6 @@ int column(const std::vector<std::string>& header, const std::string& name) {
 
 class CliSweep : public Cli {
  protected:
-  /// Runs a shell command (not rbaa) and returns its exit code and stdout.
-  static Result shell(const std::string& command) {
-    Result r{0, "", ""};
-    FILE* pipe = popen(command.c_str(), "r");
-    char buffer[4096];
-    while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) r.out.append(buffer, n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-  }
-
   nlohmann::json report(const std::string& out, int row) {
     std::ifstream in(path(out + "/row-00" + std::to_string(row) + "/report.json"));
     return nlohmann::json::parse(in);
