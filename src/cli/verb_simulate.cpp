@@ -101,10 +101,12 @@ RBAA_REGISTER_VERB(simulate, rbaa::cli::Verb{
     "rbaa simulate --config=FILE [--materials=FILE] --out=DIR\n\n"
     "Simulates the scene's reference object (or the object with the given per-element\n"
     "materials, moved so that its centre of mass is at object.position) with BDF time\n"
-    "stepping, stable Neo-Hookean elasticity and IPC contact against the scene's planes.\n"
+    "stepping, stable Neo-Hookean elasticity and IPC contact against the scene's planes and\n"
+    "triangle-mesh obstacles (obstacles.meshes).\n"
     "Writes DIR/trajectory.csv (per step: time, centre of mass, linear and angular momentum,\n"
     "orientation quaternion, minimum contact distance, Newton iterations),\n"
     "DIR/trajectory.pvd with DIR/frames/*.vtu for ParaView, and DIR/report.json (steps, Newton\n"
     "iterations, kappa, timings, and every contact episode: its kind, planes and normal\n"
-    "velocities; a restitution only for a one-plane contact whose normal velocity reversed).",
+    "velocities; a restitution only for a one-plane contact whose normal velocity reversed;\n"
+    "contact with mesh obstacles shows in the minimum distance, not yet as episodes).",
     flags(), run_simulate});

@@ -77,6 +77,11 @@ std::unique_ptr<btCollisionShape> make_child_shape(const RigidShape& shape, doub
 std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const RigidShape& shape,
                                        const Scene& scene, const RigidSettings& settings,
                                        double duration) {
+  if (!scene.obstacle_meshes.empty()) {
+    throw InputError(scene.source + ": the rigid twin does not know obstacles.meshes yet (issue 19 "
+                     "adds Bullet triangle-mesh obstacles in a later step); simulate, gradcheck and "
+                     "attack do");
+  }
   if (!(mass.mass > 0) || !(mass.principal_moments.minCoeff() > 0)) {
     throw InputError("rigid body needs positive mass and principal moments");
   }

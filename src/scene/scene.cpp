@@ -8,7 +8,10 @@
 #include <set>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "rbaa/error.hpp"
+#include "rbaa/io/triangle_soup.hpp"
 
 namespace rbaa {
 namespace {
@@ -244,6 +247,46 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
                                   : plane.normal.dot(p.vector3("point", Eigen::Vector3d::Zero()));
         p.finish();
         s.planes.push_back(plane);
+      }
+    }
+    if (ob.has("meshes")) {
+      const YAML::Node meshes = ob.child("meshes");
+      if (!meshes.IsSequence()) ob.fail(meshes, "meshes", "expected a list of obstacle meshes");
+      for (size_t i = 0; i < meshes.size(); ++i) {
+        const std::string key = "obstacles.meshes[" + std::to_string(i) + "]";
+        MapReader m(meshes[i], source, key);
+        ObstacleMesh o;
+        if (!m.has("file")) m.fail(meshes[i], "file", "missing (an OBJ, OFF, STL or PLY surface)");
+        o.file = resolve(m.text("file", ""), base_dir);
+        o.name = key + " (" + o.file + ")";
+        o.position = m.vector3("position", o.position);
+        if (m.has("rotation")) {
+          MapReader r(m.child("rotation"), source, key + ".rotation");
+          o.rotation_axis = r.vector3("axis", o.rotation_axis);
+          if (!(o.rotation_axis.norm() > 0)) r.fail(m.child("rotation"), "axis", "axis must be non-zero");
+          o.rotation_axis.normalize();
+          o.rotation_angle_deg = r.number("angle_deg", 0, -inf, inf);
+          r.finish();
+        }
+        o.scale = m.number("scale", o.scale, 0.0, inf, true);
+        m.finish();
+        SurfaceMesh surface;
+        try {
+          surface = read_triangle_soup(o.file);
+        } catch (const InputError& e) {
+          std::ostringstream msg;
+          msg << source << ":" << meshes[i].Mark().line + 1 << ": key '" << key << ".file': " << e.what();
+          throw InputError(msg.str());
+        }
+        // x = position + R (scale x_file)
+        const Eigen::Matrix3d R =
+            Eigen::AngleAxisd(o.rotation_angle_deg * M_PI / 180.0, o.rotation_axis).toRotationMatrix();
+        o.V.resize(surface.V.rows(), 3);
+        for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
+          o.V.row(v) = (o.position + R * (o.scale * surface.V.row(v).transpose())).transpose();
+        }
+        o.F = surface.F;
+        s.obstacle_meshes.push_back(std::move(o));
       }
     }
     ob.finish();

@@ -63,6 +63,11 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "object.angular_velocity " << vector3(s.angular_velocity) << "\n";
   t << "object.rotation " << vector3(s.rotation_axis) << " " << number(s.rotation_angle_deg) << "\n";
   for (const Plane& p : s.planes) t << "plane " << vector3(p.normal) << " " << number(p.offset) << "\n";
+  // Only scenes with obstacle meshes print these lines, so older fingerprints stay valid.
+  for (const ObstacleMesh& m : s.obstacle_meshes) {
+    t << "obstacle.mesh " << file_content(m.file) << " " << vector3(m.position) << " "
+      << vector3(m.rotation_axis) << " " << number(m.rotation_angle_deg) << " " << number(m.scale) << "\n";
+  }
   t << "gravity " << vector3(s.gravity) << "\n";
   t << "time.step " << number(s.time_step) << "\n";
   t << "time.duration " << number(s.duration) << "\n";

@@ -8,6 +8,7 @@
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/mesh/tetrahedralize.hpp"
+#include "rbaa/sim/mesh_obstacle_form.hpp"
 
 namespace rbaa {
 
@@ -40,6 +41,18 @@ void check_clear_of_obstacles(const Scene& scene, const TetMesh& mesh, const std
           << " m; it must start farther than d_hat = " << scene.d_hat << " m)";
       throw InputError(msg.str());
     }
+  }
+  if (scene.obstacle_meshes.empty()) return;
+  const MeshObstacleForm form(mesh, scene.obstacle_meshes, scene.d_hat, 1.0);
+  const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(mesh.V.data(), 3 * mesh.num_vertices());
+  const ObstacleClearance c = form.clearance(q, scene.d_hat);
+  if (c.intersecting || c.distance <= scene.d_hat) {
+    std::ostringstream msg;
+    msg << what << "the object starts " << (c.intersecting ? "intersecting " : "touching ")
+        << form.mesh_name(c.mesh) << " (" << c.pair;
+    if (!c.intersecting) msg << " at distance " << c.distance << " m";
+    msg << "; it must start farther than d_hat = " << scene.d_hat << " m)";
+    throw InputError(msg.str());
   }
 }
 

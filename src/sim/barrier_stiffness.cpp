@@ -24,6 +24,12 @@ double barrier_design_speed(const Scene& scene, const Eigen::Vector3d& centre_of
       if (facing <= 1e-12) continue;  // walls and ceilings do not end a fall
       height = std::max(height, (plane.normal.dot(centre_of_mass) - plane.offset) / facing);
     }
+    // A mesh obstacle: the fall down to its lowest vertex (it may be a floor, a bin, a rim).
+    for (const ObstacleMesh& mesh : scene.obstacle_meshes) {
+      if (mesh.V.rows() == 0) continue;
+      const double lowest = (mesh.V * up).minCoeff();
+      height = std::max(height, up.dot(centre_of_mass) - lowest);
+    }
     speed = std::max(speed, std::sqrt(2.0 * g * height));
   }
   return speed;

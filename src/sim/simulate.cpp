@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,6 +50,10 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
     o.orientation = best_fit_rotation(trajectory.q[0], q, masses);
     o.plane_distance = set.min_distance_per_plane(q);
     o.min_distance = set.min_distance(q);
+    // Mesh obstacles: the closest pair within d_hat (beyond it, the planes' figure stands).
+    if (const MeshObstacleForm* mesh = sim.mesh_obstacle_form()) {
+      o.min_distance = std::min(o.min_distance, mesh->min_distance(q));
+    }
   }
   return out;
 }

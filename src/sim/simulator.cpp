@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -37,6 +38,16 @@ const SimulationSettings& validated(const SimulationSettings& s) {
   if (!s.planes.empty() && !(s.kappa > 0)) {
     throw InputError("simulation: the barrier stiffness kappa must be positive when there are planes");
   }
+  if (!s.obstacle_meshes.empty() && !(s.kappa > 0)) {
+    throw InputError("simulation: the barrier stiffness kappa must be positive when there are obstacle meshes");
+  }
+  for (std::size_t m = 0; m < s.obstacle_meshes.size(); ++m) {
+    const ObstacleMesh& o = s.obstacle_meshes[m];
+    if (o.F.rows() == 0 || !o.V.allFinite() || o.F.minCoeff() < 0 || o.F.maxCoeff() >= o.V.rows()) {
+      throw InputError("simulation: obstacle mesh " + std::to_string(m) +
+                       " needs finite vertices and triangles indexing them");
+    }
+  }
   for (std::size_t p = 0; p < s.planes.size(); ++p) {
     const Plane& plane = s.planes[p];
     if (!plane.normal.allFinite() || !std::isfinite(plane.offset) ||
@@ -67,6 +78,7 @@ SimulationSettings simulation_settings(const Scene& scene, double kappa) {
   s.mass = scene.mass;
   s.gravity = scene.gravity;
   s.planes = scene.planes;
+  s.obstacle_meshes = scene.obstacle_meshes;
   s.d_hat = scene.d_hat;
   s.kappa = kappa;
   s.newton_tolerance = scene.newton_tolerance;
@@ -97,6 +109,10 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
   elastic_ = std::make_unique<ElasticForm>(rest_, materials);
   contact_ = std::make_unique<ContactForm>(
       ContactSet(surface_vertices_, settings_.planes, settings_.d_hat), settings_.kappa);
+  if (!settings_.obstacle_meshes.empty()) {
+    mesh_contact_ = std::make_unique<MeshObstacleForm>(rest_, settings_.obstacle_meshes,
+                                                       settings_.d_hat, settings_.kappa);
+  }
   build_mass_forms(materials);
   newton_.set_step_transform([this](const Eigen::VectorXd& x, const Eigen::VectorXd& dq) {
     return rigid_rotation_correction(x, dq, vertex_masses_, rigid_clusters_);
@@ -119,6 +135,7 @@ void Simulator::build_mass_forms(const MaterialField& materials) {
   potential_->add(*elastic_, w);
   if (settings_.gravity.squaredNorm() > 0) potential_->add(*gravity_, w);
   if (!settings_.planes.empty()) potential_->add(*contact_, w);
+  if (mesh_contact_) potential_->add(*mesh_contact_, w);
 }
 
 void Simulator::set_materials(const MaterialField& materials, const std::string& source) {
@@ -150,6 +167,15 @@ void Simulator::reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) {
             << " (vertex " << v << " at distance " << d << " m)";
         throw InputError(msg.str());
       }
+    }
+  }
+  if (mesh_contact_) {
+    const ObstacleClearance c = mesh_contact_->clearance(q0, settings_.d_hat);
+    if (c.intersecting || !(c.distance > 0)) {
+      std::ostringstream msg;
+      msg << "simulation: the object starts intersecting or touching " << mesh_contact_->mesh_name(c.mesh)
+          << " (" << c.pair << (c.intersecting ? "" : " at distance " + std::to_string(c.distance) + " m") << ")";
+      throw InputError(msg.str());
     }
   }
   integrator_.initialize(q0, v0, settings_.gravity);
@@ -209,6 +235,10 @@ StepStats Simulator::advance() {
   s.line_search_seconds = r.line_search_seconds;
   s.min_distance = contact_->min_distance(x);
   s.active_pairs = contact_->num_active_pairs(x);
+  if (mesh_contact_) {
+    s.min_distance = std::min(s.min_distance, mesh_contact_->min_distance(x));
+    s.active_pairs += mesh_contact_->num_active_pairs(x);
+  }
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 #include "rbaa/sim/parallel.hpp"
 
@@ -110,6 +112,31 @@ Eigen::Matrix3d& SparseHessian::vertex_block(int v) {
     touched_vertices_.push_back(v);
   }
   return vertex_values_[v];
+}
+
+void SparseHessian::add_vertex_pair_block(int a, int b, const Eigen::Matrix3d& B) {
+  if (a == b) {
+    vertex_block(a) += 0.5 * (B + B.transpose());
+    return;
+  }
+  // Stored: the lower triangle, i.e. the block with the larger vertex as row.
+  const int r = std::max(a, b), c = std::min(a, b);
+  const Eigen::Matrix3d L = a > b ? B : Eigen::Matrix3d(B.transpose());
+  const int* inner = matrix_.innerIndexPtr();
+  const int* outer = matrix_.outerIndexPtr();
+  for (int j = 0; j < 3; ++j) {
+    const int col = 3 * c + j;
+    const int* begin = inner + outer[col];
+    const int* end = inner + outer[col + 1];
+    const int* at = std::lower_bound(begin, end, 3 * r);
+    if (at == end || *at != 3 * r) {
+      throw std::logic_error("SparseHessian: vertices " + std::to_string(a) + " and " +
+                             std::to_string(b) + " share no tet");
+    }
+    const std::ptrdiff_t k = at - inner;
+    for (int i = 0; i < 3; ++i) direct_[k + i] += L(i, j);  // rows 3r, 3r+1, 3r+2 are adjacent
+  }
+  direct_used_ = true;
 }
 
 void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& A) {

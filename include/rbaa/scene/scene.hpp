@@ -32,6 +32,20 @@ struct Plane {
   double offset = 0.0;
 };
 
+/// A static triangle-mesh obstacle (obstacles.meshes[i]): the file's triangles placed in the world
+/// by x = position + R (scale x_file), R the rotation of angle_deg about axis. Open surfaces are
+/// allowed (a backboard may be one rectangle). V is #V by 3 (placed), F is #F by 3.
+struct ObstacleMesh {
+  std::string file;  ///< resolved path, for messages and the fingerprint
+  std::string name;  ///< "obstacles.meshes[i] (FILE)", for messages
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
+  double rotation_angle_deg = 0.0;
+  double scale = 1.0;
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V;
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F;
+};
+
 enum class Integrator { kBdf1, kBdf2 };
 enum class MassModel { kConsistent, kLumped };
 
@@ -55,6 +69,7 @@ struct Scene {
   double rotation_angle_deg = 0.0;
 
   std::vector<Plane> planes;
+  std::vector<ObstacleMesh> obstacle_meshes;  ///< read and placed by load_scene
   Eigen::Vector3d gravity{0.0, 0.0, -9.8};  ///< m/s^2; zero when the scene switches it off
 
   // Time stepping.

@@ -5,7 +5,8 @@
 //
 //   kappa = (1/2) m0 v^2 / b(1e-3 d_hat),  v = max(|v0|, sqrt(2 |g| H)),
 //
-// H the height of the centre of mass above the lowest obstacle that faces up against gravity.
+// H the height of the centre of mass above the lowest obstacle that faces up against gravity (for
+// a mesh obstacle: its lowest vertex).
 // kappa (J per unit of b) multiplies b inside the h^2-weighted potential, so it does not change
 // with h. Computed once from the reference scene and frozen for every run of an attack.
 

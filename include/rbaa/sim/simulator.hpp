@@ -26,6 +26,7 @@
 #include "rbaa/sim/gravity_form.hpp"
 #include "rbaa/sim/incremental_potential.hpp"
 #include "rbaa/sim/inertia_form.hpp"
+#include "rbaa/sim/mesh_obstacle_form.hpp"
 #include "rbaa/sim/newton_solver.hpp"
 #include "rbaa/sim/sparse_hessian.hpp"
 #include "rbaa/sim/trajectory.hpp"
@@ -39,8 +40,10 @@ struct SimulationSettings {
   MassModel mass = MassModel::kConsistent;
   Eigen::Vector3d gravity{0.0, 0.0, -9.8};  ///< m/s^2 (zero: off)
   std::vector<Plane> planes;
+  /// Static triangle-mesh obstacles (placed); none: no mesh-obstacle form at all.
+  std::vector<ObstacleMesh> obstacle_meshes;
   double d_hat = 1e-3;  ///< m
-  double kappa = 0;     ///< J per unit of b; must be > 0 when there are planes
+  double kappa = 0;     ///< J per unit of b; must be > 0 when there are obstacles
   /// Newton tolerance on ||dq||_inf / h relative to the rest bounding-box diagonal per second.
   double newton_tolerance = 1e-8;
   int newton_max_iterations = 100;
@@ -101,6 +104,8 @@ class Simulator {
   ElasticForm& elastic_form() { return *elastic_; }
   GravityForm& gravity_form() { return *gravity_; }
   ContactForm& contact_form() { return *contact_; }
+  /// The mesh-obstacle contact form, or null when the settings have no obstacle meshes.
+  MeshObstacleForm* mesh_obstacle_form() { return mesh_contact_.get(); }
 
  private:
   void build_mass_forms(const MaterialField& materials);
@@ -115,6 +120,7 @@ class Simulator {
   std::unique_ptr<ElasticForm> elastic_;
   std::unique_ptr<GravityForm> gravity_;
   std::unique_ptr<ContactForm> contact_;
+  std::unique_ptr<MeshObstacleForm> mesh_contact_;
   std::unique_ptr<IncrementalPotential> potential_;
   BdfIntegrator integrator_;
   NewtonSolver newton_;

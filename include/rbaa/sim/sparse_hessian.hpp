@@ -43,6 +43,10 @@ class SparseHessian {
   /// Vertex v's 3x3 diagonal block (full; its lower triangle is used); callers add to it. Not
   /// thread-safe across calls for different vertices (contact forms touch few vertices).
   Eigen::Matrix3d& vertex_block(int v);
+  /// Adds B to the block (row vertex a, column vertex b) and B^T to (b, a), for a != b sharing a
+  /// tet (a body's surface edge or triangle always does); a == b adds (B + B^T) / 2 to the
+  /// diagonal block. Throws std::logic_error for a pair outside the pattern. Not thread-safe.
+  void add_vertex_pair_block(int a, int b, const Eigen::Matrix3d& B);
   /// Adds scale * A, A a matrix in this pattern (e.g. from zero_matrix() or a previous assemble).
   void add_matrix(double scale, const Eigen::SparseMatrix<double>& A);
 
