@@ -168,4 +168,20 @@ TEST_F(CliPaths, ACoarseStiffBallConvergesInItsContactStep) {
   }
 }
 
+// A mesh-obstacle scene runs through the attack (forward and adjoint), and `rbaa evaluate`, whose
+// rigid twin does not know triangle-mesh obstacles yet, refuses it with one line naming the
+// config and the key instead of ignoring the obstacle.
+TEST_F(CliPaths, MeshObstacleSceneAttacksAndTheRigidTwinRefusesIt) {
+  const std::string scene = "--config=" RBAA_SOURCE_DIR "/configs/ball_on_mesh.yaml --set=mesh.target_tets=300 ";
+  const Result attack = run("attack " + scene + "--set=attack.polish_iterations=0 --iterations=1 "
+                            "--progress=false --out=" + path("att"));
+  ASSERT_EQ(attack.exit_code, 0) << attack.err;
+  const Result eval = run("evaluate " + scene + "--adversarial=" + path("att/adversarial.msh") +
+                          " --out=" + path("eval"));
+  EXPECT_NE(eval.exit_code, 0);
+  EXPECT_NE(eval.err.find("ball_on_mesh.yaml: the rigid twin does not know obstacles.meshes"),
+            std::string::npos) << eval.err;
+  EXPECT_EQ(eval.err.find("error:"), eval.err.rfind("error:")) << eval.err;  // one error line
+}
+
 }  // namespace
