@@ -14,6 +14,7 @@
 #include "rbaa/error.hpp"
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulator.hpp"
 

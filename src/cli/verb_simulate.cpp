@@ -12,7 +12,7 @@
 #include "rbaa/error.hpp"
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
-#include "rbaa/sim/simulate.hpp"
+#include "rbaa/scene/simulate.hpp"
 
 DECLARE_string(materials);
 DECLARE_string(out);  // here: the output directory

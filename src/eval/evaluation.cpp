@@ -9,8 +9,9 @@
 #include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
-#include "rbaa/sim/simulate.hpp"
+#include "rbaa/scene/simulate.hpp"
 
 namespace rbaa {
 namespace {

@@ -17,6 +17,7 @@
 #include "rbaa/io/vtu.hpp"
 #include "rbaa/opt/density_refit.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
 #include "rbaa/sim/observables.hpp"

@@ -70,33 +70,6 @@ NewtonSettings newton_settings(const SimulationSettings& s, const TetMesh& rest)
 
 }  // namespace
 
-SimulationSettings simulation_settings(const Scene& scene, double kappa) {
-  SimulationSettings s;
-  s.time_step = scene.time_step;
-  s.num_steps = static_cast<int>(std::lround(scene.duration / scene.time_step));
-  s.integrator = scene.integrator;
-  s.mass = scene.mass;
-  s.gravity = scene.gravity;
-  s.planes = scene.planes;
-  s.obstacle_meshes = scene.obstacle_meshes;
-  s.d_hat = scene.d_hat;
-  s.kappa = kappa;
-  s.newton_tolerance = scene.newton_tolerance;
-  s.newton_max_iterations = scene.newton_max_iterations;
-  s.rigid_predictor = scene.newton_rigid_predictor;
-  return s;
-}
-
-Eigen::VectorXd rigid_velocities(const Eigen::VectorXd& q, const Eigen::Vector3d& centre,
-                                 const Eigen::Vector3d& velocity,
-                                 const Eigen::Vector3d& angular_velocity) {
-  Eigen::VectorXd v(q.size());
-  for (Eigen::Index i = 0; i < q.size() / 3; ++i) {
-    v.segment<3>(3 * i) = velocity + angular_velocity.cross(q.segment<3>(3 * i) - centre);
-  }
-  return v;
-}
-
 Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
                      const SimulationSettings& settings, const std::string& materials_source)
     : rest_(rest),

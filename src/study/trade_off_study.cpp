@@ -1,3 +1,4 @@
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/study/trade_off_study.hpp"
 
 #include <Eigen/Geometry>

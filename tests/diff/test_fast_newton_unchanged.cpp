@@ -16,6 +16,7 @@
 #include "rbaa/material/design_space.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"

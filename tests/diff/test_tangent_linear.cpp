@@ -16,6 +16,7 @@
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 
 namespace rbaa {

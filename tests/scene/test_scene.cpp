@@ -13,6 +13,7 @@
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_fingerprint.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/simulator.hpp"
 
 namespace rbaa {

@@ -133,7 +133,8 @@ TEST(SceneObstacleMeshes, TheKappaRuleFallsToTheLowestMeshVertex) {
   Scene s = parse_scene(config("{file: rect.obj, position: [0, 0, 0.3]}"), "test.yaml", dir());
   s.velocity.setZero();
   // A fall of 0.5 - 0.3 = 0.2 m: v = sqrt(2 g 0.2).
-  EXPECT_NEAR(barrier_design_speed(s, Eigen::Vector3d(0, 0, 0.5)), std::sqrt(2 * 9.8 * 0.2), 1e-12);
+  EXPECT_NEAR(barrier_design_speed(s.velocity.norm(), s.gravity, s.planes, s.obstacle_meshes,
+                                   Eigen::Vector3d(0, 0, 0.5)), std::sqrt(2 * 9.8 * 0.2), 1e-12);
 }
 
 TEST(SceneObstacleMeshes, FingerprintReadsTheObstacleFile) {

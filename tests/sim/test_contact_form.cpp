@@ -136,12 +136,10 @@ TEST(BarrierStiffness, EnergyRuleGivesAbout4e7ForTheBall) {
   // SPEC: m0 = 18.25 kg, |v0| = 5.5 m/s, d_hat = 1e-3 -> about 4e7.
   const double kappa = barrier_stiffness_from_energy(18.25, 5.53, 1e-3);
   EXPECT_NEAR(kappa, 4.05e7, 0.05e7);
-  Scene scene;
-  scene.velocity = Eigen::Vector3d::Zero();
-  Plane floor;
-  scene.planes = {floor};
-  // Falling from 2 m: v = sqrt(2 g H).
-  EXPECT_NEAR(barrier_design_speed(scene, Eigen::Vector3d(0, 0, 2)), std::sqrt(2 * 9.8 * 2), 1e-12);
+  // Falling from 2 m onto the floor z = 0: v = sqrt(2 g H).
+  EXPECT_NEAR(barrier_design_speed(0.0, Eigen::Vector3d(0, 0, -9.8), {Plane{}}, {},
+                                   Eigen::Vector3d(0, 0, 2)),
+              std::sqrt(2 * 9.8 * 2), 1e-12);
 }
 
 }  // namespace

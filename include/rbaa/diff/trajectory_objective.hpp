@@ -18,7 +18,6 @@
 #include "rbaa/diff/adjoint.hpp"
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
-#include "rbaa/scene/scene.hpp"
 #include "rbaa/sim/trajectory.hpp"
 
 namespace rbaa {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "rbaa/sim/world.hpp"
+
 namespace rbaa {
 
 /// Where the reference object's tet mesh comes from: a primitive (meshed with CGAL at load time,
@@ -25,29 +27,6 @@ struct MeshSource {
   // Surfaces: scale so that the tet mesh has this volume (m^3) and centre it (0 = leave as is).
   double volume = 0;
 };
-
-/// Half-space obstacle {x : normal . x >= offset}; normal is unit length.
-struct Plane {
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-  double offset = 0.0;
-};
-
-/// A static triangle-mesh obstacle (obstacles.meshes[i]): the file's triangles placed in the world
-/// by x = position + R (scale x_file), R the rotation of angle_deg about axis. Open surfaces are
-/// allowed (a backboard may be one rectangle). V is #V by 3 (placed), F is #F by 3.
-struct ObstacleMesh {
-  std::string file;  ///< resolved path, for messages and the fingerprint
-  std::string name;  ///< "obstacles.meshes[i] (FILE)", for messages
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
-  double rotation_angle_deg = 0.0;
-  double scale = 1.0;
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V;
-  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F;
-};
-
-enum class Integrator { kBdf1, kBdf2 };
-enum class MassModel { kConsistent, kLumped };
 
 /// Closed interval [lo, hi].
 struct Range {

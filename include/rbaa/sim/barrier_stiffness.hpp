@@ -10,21 +10,22 @@
 // kappa (J per unit of b) multiplies b inside the h^2-weighted potential, so it does not change
 // with h. Computed once from the reference scene and frozen for every run of an attack.
 
-#include "rbaa/mesh/tet_mesh.hpp"
-#include "rbaa/scene/scene.hpp"
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 
 /// (1/2) m0 v^2 / b(1e-3 d_hat) for mass m0 (kg), speed v (m/s), activation distance d_hat (m).
 double barrier_stiffness_from_energy(double m0, double speed, double d_hat);
 
-/// The speed the rule uses: max(|scene.velocity|, sqrt(2 |g| H)) with the centre of mass at
-/// `centre_of_mass`.
-double barrier_design_speed(const Scene& scene, const Eigen::Vector3d& centre_of_mass);
-
-/// scene.kappa if positive, else the energy rule for the scene's reference object (`placed`: the
-/// placed reference mesh, density scene.reference_rho). Throws rbaa::InputError if the rule has
-/// nothing to go on (no speed and no fall) and the scene sets no kappa.
-double scene_barrier_stiffness(const Scene& scene, const TetMesh& placed);
+/// The speed the rule uses: max(speed, sqrt(2 |g| H)) for a body whose centre of mass is at
+/// `centre_of_mass` (speed: its initial speed).
+double barrier_design_speed(double speed, const Eigen::Vector3d& gravity,
+                            const std::vector<Plane>& planes,
+                            const std::vector<ObstacleMesh>& obstacle_meshes,
+                            const Eigen::Vector3d& centre_of_mass);
 
 }  // namespace rbaa

@@ -14,7 +14,7 @@
 #include <deque>
 #include <vector>
 
-#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 

@@ -9,7 +9,7 @@
 
 #include <vector>
 
-#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 

@@ -8,7 +8,7 @@
 #include <Eigen/SparseCore>
 
 #include "rbaa/mesh/tet_mesh.hpp"
-#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/world.hpp"
 #include "rbaa/sim/sparse_hessian.hpp"
 
 namespace rbaa {

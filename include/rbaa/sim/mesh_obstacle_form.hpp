@@ -30,7 +30,7 @@
 #include "rbaa/contact/broad_phase.hpp"
 #include "rbaa/contact/static_mesh_broad_phase.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
-#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/world.hpp"
 #include "rbaa/sim/barrier.hpp"
 #include "rbaa/sim/form.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/world.hpp"
 #include "rbaa/sim/trajectory.hpp"
 
 namespace rbaa {

@@ -18,7 +18,6 @@
 
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
-#include "rbaa/scene/scene.hpp"
 #include "rbaa/sim/bdf.hpp"
 #include "rbaa/sim/rigid_rotation_correction.hpp"
 #include "rbaa/sim/contact_form.hpp"
@@ -30,6 +29,7 @@
 #include "rbaa/sim/newton_solver.hpp"
 #include "rbaa/sim/sparse_hessian.hpp"
 #include "rbaa/sim/trajectory.hpp"
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 
@@ -53,16 +53,6 @@ struct SimulationSettings {
   /// (rigid_rotation_correction.hpp). Off: the ballistic guess and plain Newton (for comparison).
   bool rigid_predictor = true;
 };
-
-/// Settings of a scene: its h, steps = round(duration / h), integrator, mass model, gravity,
-/// planes, d_hat and Newton settings, with the given (frozen) kappa.
-SimulationSettings simulation_settings(const Scene& scene, double kappa);
-
-/// Per-vertex initial velocities (3 #V) of a body moving with `velocity` and spinning with
-/// `angular_velocity` (rad/s) about `centre`.
-Eigen::VectorXd rigid_velocities(const Eigen::VectorXd& q, const Eigen::Vector3d& centre,
-                                 const Eigen::Vector3d& velocity,
-                                 const Eigen::Vector3d& angular_velocity);
 
 class Simulator {
  public:

@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 
-#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 

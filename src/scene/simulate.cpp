@@ -1,4 +1,5 @@
-#include "rbaa/sim/simulate.hpp"
+#include "rbaa/scene/scene_world.hpp"
+#include "rbaa/scene/simulate.hpp"
 
 #include <nlohmann/json.hpp>
 
