@@ -15,6 +15,7 @@
 
 #include "bench_common.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulator.hpp"
 #include "rbaa/sim/stable_neo_hookean.hpp"

@@ -29,6 +29,7 @@
 #include "rbaa/opt/attack_loop.hpp"
 #include "rbaa/opt/moment_cost.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulator.hpp"
 

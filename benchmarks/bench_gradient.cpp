@@ -24,6 +24,7 @@
 #include "rbaa/diff/trajectory_gradient.hpp"
 #include "rbaa/material/design_space.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulator.hpp"
 
