@@ -33,6 +33,8 @@ DEFINE_double(tangent_tolerance, 1e-10, "largest tangent-vs-adjoint relative err
 DEFINE_double(tangent_noise_factor, 4.0, "a tangent-vs-adjoint error within this many times the "
                                          "tangent's own measured round-off also passes (0: off)");
 DEFINE_uint64(gradcheck_seed, 1, "seed of the random directions");
+DEFINE_string(body, "", "move only this body's materials: object, or a name from the scene's "
+                        "bodies list (default: every body's)");
 
 namespace {
 
@@ -62,13 +64,29 @@ int run_gradcheck() {
   const rbaa::GradientCheckMethod method = rbaa::parse_gradient_check_method(FLAGS_method);
   const rbaa::Scene scene = rbaa::cli::load_scene_from_flags();
   std::fprintf(stderr, "rbaa gradcheck: meshing the reference object of %s\n", scene.source.c_str());
-  const rbaa::TetMesh mesh = rbaa::make_scene_mesh(scene);
-  const double kappa = rbaa::scene_barrier_stiffness(scene, mesh);
-  const rbaa::SimulationSettings settings = rbaa::simulation_settings(scene, kappa);
+  const rbaa::TetMesh object_mesh = rbaa::make_scene_mesh(scene);
+  const double kappa = rbaa::scene_barrier_stiffness(scene, object_mesh);
+  // Every body's materials are checked: the scene's further bodies are stacked after the object,
+  // all in the design space (--body restricts the directions to one of them).
+  const rbaa::SceneWorld world = rbaa::make_world(scene, object_mesh);
+  const rbaa::TetMesh& mesh = world.mesh;
+  rbaa::SimulationSettings settings = rbaa::simulation_settings(scene, kappa);
+  if (world.bodies.size() > 1) settings.bodies = world.bodies;
   const Eigen::VectorXd q0 =
       Eigen::Map<const Eigen::VectorXd>(mesh.V.data(), 3 * mesh.num_vertices());
-  const Eigen::VectorXd v0 =
-      rbaa::rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
+  const Eigen::VectorXd v0 = rbaa::initial_velocities(q0, world.bodies);
+  int element_begin = 0, element_end = -1;
+  if (!FLAGS_body.empty()) {
+    bool found = false;
+    for (std::size_t b = 0; b < world.bodies.size(); ++b) {
+      const std::string name = b == 0 ? "object" : scene.bodies[b - 1].name;
+      if (name != FLAGS_body) continue;
+      element_begin = world.bodies[b].element_begin;
+      element_end = world.bodies[b].element_end;
+      found = true;
+    }
+    if (!found) throw rbaa::InputError("--body=" + FLAGS_body + ": the scene has no such body");
+  }
 
   // The undirected objective against the uniform reference's final positions.
   rbaa::Simulator reference(mesh,
@@ -85,7 +103,8 @@ int run_gradcheck() {
   Eigen::VectorXd theta = design.initial_theta(true);
   if (!FLAGS_materials.empty()) {
     // Every field of the given design, checked or not, keeps its values.
-    const rbaa::MaterialField given = rbaa::read_materials(FLAGS_materials, mesh.num_tets());
+    const rbaa::MaterialField given = world.materials(
+        rbaa::read_materials(FLAGS_materials, object_mesh.num_tets()), FLAGS_materials);
     design.hold_fixed_fields(given);
     theta = design.to_theta(given);
   }
@@ -109,6 +128,8 @@ int run_gradcheck() {
   check.step = FLAGS_fd_step;
   check.seed = FLAGS_gradcheck_seed;
   check.material_space = FLAGS_fd_space == "material";
+  check.element_begin = element_begin;
+  check.element_end = element_end;
   check.fd_tolerance = FLAGS_gradcheck_tolerance;
   check.tangent_tolerance = FLAGS_tangent_tolerance;
   check.tangent_noise_factor = FLAGS_tangent_noise_factor;

@@ -189,9 +189,33 @@ GradientCheckResult check_gradient(TrajectoryGradientFunction& f, const Eigen::V
 
   const bool fd = options.method != GradientCheckMethod::kTangent;
   const bool tangent = options.method != GradientCheckMethod::kFiniteDifference;
+  // Coordinates of elements outside [element_begin, element_end) stay out of the directions (the
+  // same layout in theta and in material space: per field #T entries, alpha interior only).
+  const int lo = std::max(options.element_begin, 0);
+  const int hi = options.element_end < 0 ? ds.num_tets() : std::min(options.element_end, ds.num_tets());
+  if (!(lo < hi)) throw InputError("gradient check: no element to move in the chosen range");
+  Eigen::VectorXd in_range = Eigen::VectorXd::Zero(n);
+  {
+    int o = 0;
+    for (int f = 0; f < 4; ++f) {
+      const auto field = static_cast<DesignField>(f);
+      if (!ds.optimises(field)) continue;
+      if (field == DesignField::kAlpha) {
+        for (int e : ds.interior()) in_range[o++] = e >= lo && e < hi;
+      } else {
+        for (int e = 0; e < ds.num_tets(); ++e) in_range[o++] = e >= lo && e < hi;
+      }
+    }
+    if (!(in_range.sum() > 0)) throw InputError("gradient check: no design entry in the chosen elements");
+  }
+  auto restricted = [&](Eigen::VectorXd d) {
+    if (lo == 0 && hi == ds.num_tets()) return d;
+    d = d.cwiseProduct(in_range);
+    return Eigen::VectorXd(d / d.norm());
+  };
   std::mt19937_64 rng(options.seed);
   std::vector<Eigen::VectorXd> dirs;
-  for (int i = 0; i < options.directions; ++i) dirs.push_back(random_unit(n, rng));
+  for (int i = 0; i < options.directions; ++i) dirs.push_back(restricted(random_unit(n, rng)));
   std::vector<DirectionCheck> checks(dirs.size());
   for (std::size_t i = 0; i < dirs.size(); ++i) {
     checks[i].adjoint = options.material_space ? mc.dot(g_material, dirs[i]) : g_theta.dot(dirs[i]);
@@ -211,7 +235,7 @@ GradientCheckResult check_gradient(TrajectoryGradientFunction& f, const Eigen::V
     std::mt19937_64 split_rng(options.seed + 0x9e3779b97f4a7c15ULL);
     std::vector<TangentDirection> td(3 * dirs.size());
     for (std::size_t i = 0; i < dirs.size(); ++i) {
-      const Eigen::VectorXd split = random_unit(n, split_rng);
+      const Eigen::VectorXd split = restricted(random_unit(n, split_rng));
       td[3 * i].materials = material_direction(dirs[i]);
       td[3 * i + 1].materials = material_direction(split);
       td[3 * i + 2].materials = material_direction(dirs[i] - split);

@@ -46,6 +46,7 @@ class MapReader {
     throw InputError(msg.str());
   }
 
+  const std::string& source() const { return source_; }
   std::string full(const std::string& key) const {
     if (prefix_.empty()) return key;
     return key.empty() ? prefix_ : prefix_ + "." + key;
@@ -136,7 +137,6 @@ class MapReader {
     }
   }
 
-  const std::string& source() const { return source_; }
 
  private:
   YAML::Node node_;
@@ -180,6 +180,43 @@ void apply_override(YAML::Node& root, const std::string& assignment) {
 
 const std::set<std::string> kFields = {"Y", "nu", "rho", "alpha"};
 
+// A mesh source (the top-level `mesh` or a body's): exactly one of shape, surface, file.
+MeshSource read_mesh_source(const YAML::Node& node, const std::string& source,
+                            const std::string& key, const std::string& base_dir) {
+  const double inf = std::numeric_limits<double>::infinity();
+  MapReader m(node, source, key);
+  MeshSource mesh;
+  mesh.shape = m.text("shape", "", {"sphere", "cube", "star", "bat", "bunny"});
+  mesh.surface_file = resolve(m.text("surface", ""), base_dir);
+  mesh.mesh_file = resolve(m.text("file", ""), base_dir);
+  const int sources = !mesh.shape.empty() + !mesh.surface_file.empty() + !mesh.mesh_file.empty();
+  if (sources != 1) m.fail(node, "", "give exactly one of shape, surface, file");
+  mesh.target_tets = m.integer("target_tets", 0, 10, 10000000);
+  mesh.radius = m.number("radius", 0, 0, inf, true);
+  mesh.side = m.number("side", 0, 0, inf, true);
+  mesh.volume = m.number("volume", 0, 0, inf, true);
+  m.finish();
+  return mesh;
+}
+
+// A body's initial state: position, velocity, angular_velocity and rotation {axis, angle_deg}.
+void read_pose(MapReader& o, Eigen::Vector3d& position, Eigen::Vector3d& velocity,
+               Eigen::Vector3d& angular_velocity, Eigen::Vector3d& rotation_axis,
+               double& rotation_angle_deg) {
+  const double inf = std::numeric_limits<double>::infinity();
+  position = o.vector3("position", position);
+  velocity = o.vector3("velocity", velocity);
+  angular_velocity = o.vector3("angular_velocity", angular_velocity);
+  if (o.has("rotation")) {
+    MapReader r(o.child("rotation"), o.source(), o.full("rotation"));
+    rotation_axis = r.vector3("axis", rotation_axis);
+    if (!(rotation_axis.norm() > 0)) r.fail(o.child("rotation"), "axis", "axis must be non-zero");
+    rotation_axis.normalize();
+    rotation_angle_deg = r.number("angle_deg", 0, -inf, inf);
+    r.finish();
+  }
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& yaml_text, const std::string& source,
@@ -201,34 +238,31 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
   MapReader top(root, source, "");
   s.name = top.text("name", std::filesystem::path(source).stem().string());
 
-  {
-    MapReader m(top.child("mesh"), source, "mesh");
-    if (!top.has("mesh")) top.fail(root, "mesh", "missing (give shape, surface or file)");
-    s.mesh.shape = m.text("shape", "", {"sphere", "cube", "star", "bat", "bunny"});
-    s.mesh.surface_file = resolve(m.text("surface", ""), base_dir);
-    s.mesh.mesh_file = resolve(m.text("file", ""), base_dir);
-    const int sources = !s.mesh.shape.empty() + !s.mesh.surface_file.empty() + !s.mesh.mesh_file.empty();
-    if (sources != 1) m.fail(top.child("mesh"), "", "give exactly one of shape, surface, file");
-    s.mesh.target_tets = m.integer("target_tets", 0, 10, 10000000);
-    s.mesh.radius = m.number("radius", 0, 0, inf, true);
-    s.mesh.side = m.number("side", 0, 0, inf, true);
-    s.mesh.volume = m.number("volume", 0, 0, inf, true);
-    m.finish();
-  }
+  if (!top.has("mesh")) top.fail(root, "mesh", "missing (give shape, surface or file)");
+  s.mesh = read_mesh_source(top.child("mesh"), source, "mesh", base_dir);
   {
     MapReader o(top.child("object"), source, "object");
-    s.position = o.vector3("position", s.position);
-    s.velocity = o.vector3("velocity", s.velocity);
-    s.angular_velocity = o.vector3("angular_velocity", s.angular_velocity);
-    if (o.has("rotation")) {
-      MapReader r(o.child("rotation"), source, "object.rotation");
-      s.rotation_axis = r.vector3("axis", s.rotation_axis);
-      if (!(s.rotation_axis.norm() > 0)) r.fail(o.child("rotation"), "axis", "axis must be non-zero");
-      s.rotation_axis.normalize();
-      s.rotation_angle_deg = r.number("angle_deg", 0, -inf, inf);
-      r.finish();
-    }
+    read_pose(o, s.position, s.velocity, s.angular_velocity, s.rotation_axis, s.rotation_angle_deg);
     o.finish();
+  }
+  if (top.has("bodies")) {
+    const YAML::Node bodies = top.child("bodies");
+    if (!bodies.IsSequence()) top.fail(bodies, "bodies", "expected a list of bodies");
+    std::set<std::string> names{"object"};
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      const std::string key = "bodies[" + std::to_string(i) + "]";
+      MapReader b(bodies[i], source, key);
+      BodySpec body;
+      body.name = b.text("name", key);
+      if (!names.insert(body.name).second) b.fail(bodies[i], "name", "'" + body.name + "' names two bodies");
+      if (!b.has("mesh")) b.fail(bodies[i], "mesh", "missing (give shape, surface or file)");
+      body.mesh = read_mesh_source(b.child("mesh"), source, key + ".mesh", base_dir);
+      read_pose(b, body.position, body.velocity, body.angular_velocity, body.rotation_axis,
+                body.rotation_angle_deg);
+      body.materials_file = resolve(b.text("materials", ""), base_dir);
+      b.finish();
+      s.bodies.push_back(std::move(body));
+    }
   }
   {
     MapReader ob(top.child("obstacles"), source, "obstacles");

@@ -68,6 +68,15 @@ std::string scene_fingerprint_text(const Scene& s) {
     t << "obstacle.mesh " << file_content(m.file) << " " << vector3(m.position) << " "
       << vector3(m.rotation_axis) << " " << number(m.rotation_angle_deg) << " " << number(m.scale) << "\n";
   }
+  // Likewise only scenes with further bodies print theirs.
+  for (const BodySpec& b : s.bodies) {
+    t << "body " << b.name << " " << (b.mesh.shape.empty() ? "-" : b.mesh.shape) << " "
+      << file_content(b.mesh.surface_file) << " " << file_content(b.mesh.mesh_file) << " "
+      << b.mesh.target_tets << " " << number(b.mesh.radius) << " " << number(b.mesh.side) << " "
+      << number(b.mesh.volume) << " " << vector3(b.position) << " " << vector3(b.velocity) << " "
+      << vector3(b.angular_velocity) << " " << vector3(b.rotation_axis) << " "
+      << number(b.rotation_angle_deg) << " " << file_content(b.materials_file) << "\n";
+  }
   t << "gravity " << vector3(s.gravity) << "\n";
   t << "time.step " << number(s.time_step) << "\n";
   t << "time.duration " << number(s.duration) << "\n";

@@ -28,7 +28,8 @@ TetMesh make_source_mesh(const MeshSource& source, const std::string& scene_sour
 namespace {
 
 // Throws if some vertex of the placed mesh is within d_hat of a plane; `what` leads the message.
-void check_clear_of_obstacles(const Scene& scene, const TetMesh& mesh, const std::string& what) {
+void check_clear_of_obstacles(const Scene& scene, const TetMesh& mesh, const std::string& what,
+                              const std::string& body = "the object") {
   for (size_t p = 0; p < scene.planes.size(); ++p) {
     const Plane& plane = scene.planes[p];
     const Eigen::VectorXd d = mesh.V * plane.normal - Eigen::VectorXd::Constant(mesh.num_vertices(), plane.offset);
@@ -36,7 +37,7 @@ void check_clear_of_obstacles(const Scene& scene, const TetMesh& mesh, const std
     const double d_min = d.minCoeff(&worst);
     if (d_min <= scene.d_hat) {
       std::ostringstream msg;
-      msg << what << "the object starts " << (d_min <= 0 ? "intersecting" : "touching")
+      msg << what << body << " starts " << (d_min <= 0 ? "intersecting" : "touching")
           << " obstacles.planes[" << p << "] (vertex " << worst << " at distance " << d_min
           << " m; it must start farther than d_hat = " << scene.d_hat << " m)";
       throw InputError(msg.str());
@@ -48,7 +49,7 @@ void check_clear_of_obstacles(const Scene& scene, const TetMesh& mesh, const std
   const ObstacleClearance c = form.clearance(q, scene.d_hat);
   if (c.intersecting || c.distance <= scene.d_hat) {
     std::ostringstream msg;
-    msg << what << "the object starts " << (c.intersecting ? "intersecting " : "touching ")
+    msg << what << body << " starts " << (c.intersecting ? "intersecting " : "touching ")
         << form.mesh_name(c.mesh) << " (" << c.pair;
     if (!c.intersecting) msg << " at distance " << c.distance << " m";
     msg << "; it must start farther than d_hat = " << scene.d_hat << " m)";
@@ -56,19 +57,31 @@ void check_clear_of_obstacles(const Scene& scene, const TetMesh& mesh, const std
   }
 }
 
+
+// Rotates the mesh about its volume centroid and moves the centroid to `position`.
+void place(TetMesh& mesh, const Eigen::Vector3d& axis, double angle_deg,
+           const Eigen::Vector3d& position) {
+  const Eigen::Vector3d centre = compute_moments(mesh, 1.0).centre_of_mass();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(angle_deg * M_PI / 180.0, axis).toRotationMatrix();
+  for (int i = 0; i < mesh.num_vertices(); ++i) {
+    const Eigen::Vector3d x = mesh.V.row(i).transpose() - centre;
+    mesh.V.row(i) = (R * x + position).transpose();
+  }
+}
+
 }  // namespace
 
 TetMesh make_scene_mesh(const Scene& scene) {
   TetMesh mesh = make_source_mesh(scene.mesh, scene.source);
-  const Eigen::Vector3d centre = compute_moments(mesh, 1.0).centre_of_mass();
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(scene.rotation_angle_deg * M_PI / 180.0, scene.rotation_axis)
-          .toRotationMatrix();
-  for (int i = 0; i < mesh.num_vertices(); ++i) {
-    const Eigen::Vector3d x = mesh.V.row(i).transpose() - centre;
-    mesh.V.row(i) = (R * x + scene.position).transpose();
-  }
+  place(mesh, scene.rotation_axis, scene.rotation_angle_deg, scene.position);
   check_clear_of_obstacles(scene, mesh, scene.source + ": ");
+  return mesh;
+}
+
+TetMesh make_body_mesh(const Scene& scene, const BodySpec& body) {
+  TetMesh mesh = make_source_mesh(body.mesh, scene.source);
+  place(mesh, body.rotation_axis, body.rotation_angle_deg, body.position);
+  check_clear_of_obstacles(scene, mesh, scene.source + ": ", "body '" + body.name + "'");
   return mesh;
 }
 

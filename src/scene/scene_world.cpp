@@ -4,6 +4,8 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/geometry/moments.hpp"
+#include "rbaa/io/materials_io.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 
 namespace rbaa {
@@ -35,6 +37,81 @@ double scene_barrier_stiffness(const Scene& scene, const TetMesh& placed) {
                      "rule: the object neither moves nor falls onto an obstacle; set 'kappa'");
   }
   return barrier_stiffness_from_energy(m.m0, speed, scene.d_hat);
+}
+
+MaterialField SceneWorld::materials(const MaterialField& object, const std::string& source) const {
+  validate_material_field(object, bodies.front().num_elements(), source);
+  const int n = object.size(), m = fixed_materials.size();
+  MaterialField all;
+  all.Y.resize(n + m);
+  all.nu.resize(n + m);
+  all.rho.resize(n + m);
+  all.alpha.resize(n + m);
+  all.Y << object.Y, fixed_materials.Y;
+  all.nu << object.nu, fixed_materials.nu;
+  all.rho << object.rho, fixed_materials.rho;
+  all.alpha << object.alpha, fixed_materials.alpha;
+  return all;
+}
+
+SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
+  SceneWorld w;
+  Body object;
+  object.name = "object";
+  object.vertex_end = object_mesh.num_vertices();
+  object.element_end = object_mesh.num_tets();
+  object.centre = scene.position;
+  object.velocity = scene.velocity;
+  object.angular_velocity = scene.angular_velocity;
+  w.bodies.push_back(object);
+  std::vector<TetMesh> meshes{object_mesh};
+  std::vector<MaterialField> fields;
+  for (const BodySpec& spec : scene.bodies) {
+    TetMesh mesh = make_body_mesh(scene, spec);
+    MaterialField field =
+        spec.materials_file.empty()
+            ? MaterialField::uniform(mesh.num_tets(), scene.reference_Y, scene.reference_nu,
+                                     scene.reference_rho)
+            : read_materials(spec.materials_file, mesh.num_tets());
+    if (!spec.materials_file.empty()) {
+      validate_material_field(field, mesh.num_tets(), spec.materials_file);
+      // Its centre of mass under its own materials at its position, as for the object.
+      const Eigen::Vector3d c = compute_moments(mesh, field.effective_density()).centre_of_mass();
+      mesh.V.rowwise() += (spec.position - c).transpose();
+    }
+    Body b;
+    b.name = "'" + spec.name + "'";
+    b.vertex_begin = w.bodies.back().vertex_end;
+    b.vertex_end = b.vertex_begin + mesh.num_vertices();
+    b.element_begin = w.bodies.back().element_end;
+    b.element_end = b.element_begin + mesh.num_tets();
+    b.centre = spec.position;
+    b.velocity = spec.velocity;
+    b.angular_velocity = spec.angular_velocity;
+    w.bodies.push_back(b);
+    meshes.push_back(std::move(mesh));
+    fields.push_back(std::move(field));
+  }
+  const Body& last = w.bodies.back();
+  w.mesh.V.resize(last.vertex_end, 3);
+  w.mesh.T.resize(last.element_end, 4);
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    const Body& b = w.bodies[i];
+    w.mesh.V.middleRows(b.vertex_begin, b.num_vertices()) = meshes[i].V;
+    w.mesh.T.middleRows(b.element_begin, b.num_elements()) =
+        meshes[i].T.array() + b.vertex_begin;
+  }
+  const int fixed = last.element_end - w.bodies.front().element_end;
+  w.fixed_materials = MaterialField::uniform(fixed, 1, 0.3, 1);
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const Body& b = w.bodies[i + 1];
+    const int at = b.element_begin - w.bodies.front().element_end;
+    w.fixed_materials.Y.segment(at, b.num_elements()) = fields[i].Y;
+    w.fixed_materials.nu.segment(at, b.num_elements()) = fields[i].nu;
+    w.fixed_materials.rho.segment(at, b.num_elements()) = fields[i].rho;
+    w.fixed_materials.alpha.segment(at, b.num_elements()) = fields[i].alpha;
+  }
+  return w;
 }
 
 }  // namespace rbaa

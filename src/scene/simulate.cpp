@@ -38,17 +38,36 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
   const Eigen::VectorXd& masses = sim.vertex_masses();
   const ContactSet& set = sim.contact_form().contact_set();
   std::vector<StepObservables> out(trajectory.q.size());
+  std::vector<Body> bodies = sim.settings().bodies;
+  if (bodies.empty()) {
+    Body whole;
+    whole.vertex_end = sim.rest_mesh().num_vertices();
+    whole.element_end = sim.rest_mesh().num_tets();
+    bodies.push_back(whole);
+  }
+  const Body& object = bodies.front();
   for (int k = 0; k < static_cast<int>(trajectory.q.size()); ++k) {
     const Eigen::VectorXd& q = trajectory.q[k];
     const Eigen::VectorXd v = trajectory.velocity(k);
     const Eigen::VectorXd Mv = sim.inertia_form().multiply(v);
     StepObservables& o = out[k];
     o.time = trajectory.time(k);
-    o.centre_of_mass = centre_of_mass(q, masses);
-    o.com_velocity = centre_of_mass(v, masses);
+    // The object's motion (the first body's), the whole system's momenta.
+    const auto m = masses.segment(object.vertex_begin, object.num_vertices());
+    const auto part = [&](const Eigen::VectorXd& x) {
+      return Eigen::VectorXd(x.segment(3 * object.vertex_begin, 3 * object.num_vertices()));
+    };
+    o.centre_of_mass = centre_of_mass(part(q), m);
+    o.com_velocity = centre_of_mass(part(v), m);
     o.linear_momentum = linear_momentum(Mv);
     o.angular_momentum = angular_momentum(q, Mv);
-    o.orientation = best_fit_rotation(trajectory.q[0], q, masses);
+    o.orientation = best_fit_rotation(part(trajectory.q[0]), part(q), m);
+    for (std::size_t b = 1; b < bodies.size(); ++b) {
+      const Body& body = bodies[b];
+      o.body_centres.push_back(centre_of_mass(
+          q.segment(3 * body.vertex_begin, 3 * body.num_vertices()),
+          masses.segment(body.vertex_begin, body.num_vertices())));
+    }
     o.plane_distance = set.min_distance_per_plane(q);
     o.min_distance = set.min_distance(q);
     // Mesh obstacles: the closest pair within d_hat (beyond it, the planes' figure stands).
@@ -63,20 +82,23 @@ SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
                              const MaterialField& materials, const SimulationOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   SimulationRun run;
-  run.mesh = placed_mesh;
-  run.materials = materials;
   double kappa = options.kappa;
   if (!(kappa > 0)) {
     run.kappa_from_rule = !(scene.kappa > 0);
     kappa = scene_barrier_stiffness(scene, placed_mesh);
   }
   run.settings = simulation_settings(scene, kappa);
-  Simulator sim(placed_mesh, materials, run.settings, scene.source + " (materials)");
+  // Further bodies are stacked after the object, with their own fixed materials.
+  const SceneWorld world = make_world(scene, placed_mesh);
+  run.mesh = world.mesh;
+  run.materials = world.materials(materials, scene.source + " (materials)");
+  run.bodies = world.bodies;
+  if (world.bodies.size() > 1) run.settings.bodies = world.bodies;
+  Simulator sim(run.mesh, run.materials, run.settings, scene.source + " (materials)");
   if (options.on_newton_iteration) sim.newton().set_iteration_callback(options.on_newton_iteration);
   run.vertex_masses = sim.vertex_masses();
   const Eigen::VectorXd q0 = sim.rest_positions();
-  const Eigen::VectorXd v0 =
-      rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
+  const Eigen::VectorXd v0 = initial_velocities(q0, world.bodies);
   run.setup_seconds = seconds_since(t0);
 
   const auto t1 = std::chrono::steady_clock::now();
@@ -105,16 +127,22 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
   const int n = static_cast<int>(t.q.size());
 
   // Per-step CSV.
-  const std::vector<std::string> header = {
+  // com and q: the object's; p and L: the whole system's; then each further body's centre.
+  std::vector<std::string> header = {
       "step", "time", "com_x", "com_y", "com_z", "p_x", "p_y", "p_z", "L_x", "L_y", "L_z",
       "q_w", "q_x", "q_y", "q_z", "min_distance", "newton_iterations"};
+  const int further = n > 0 ? static_cast<int>(run.observables[0].body_centres.size()) : 0;
+  for (int b = 0; b < further; ++b) {
+    for (const char* axis : {"_com_x", "_com_y", "_com_z"}) header.push_back(scene.bodies[b].name + axis);
+  }
   Eigen::MatrixXd rows(n, header.size());
   for (int k = 0; k < n; ++k) {
     const StepObservables& o = run.observables[k];
-    rows.row(k) << k, o.time, o.centre_of_mass.transpose(), o.linear_momentum.transpose(),
+    rows.row(k).head(17) << k, o.time, o.centre_of_mass.transpose(), o.linear_momentum.transpose(),
         o.angular_momentum.transpose(), o.orientation.w(), o.orientation.x(), o.orientation.y(),
         o.orientation.z(), std::isfinite(o.min_distance) ? o.min_distance : -1.0,
         k == 0 ? 0 : t.steps[k - 1].newton_iterations;
+    for (int b = 0; b < further; ++b) rows.row(k).segment<3>(17 + 3 * b) = o.body_centres[b].transpose();
   }
   write_csv((fs::path(dir) / "trajectory.csv").string(), header, rows);
 

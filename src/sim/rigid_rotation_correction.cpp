@@ -190,49 +190,82 @@ Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen:
   return out;
 }
 
+namespace {
+
+// The vertex ranges the rigid motions act on: each body's, or the whole mesh.
+std::vector<std::pair<Eigen::Index, Eigen::Index>> rigid_ranges(const std::vector<Body>& bodies,
+                                                               Eigen::Index num_vertices) {
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> ranges;
+  for (const Body& b : bodies) ranges.emplace_back(b.vertex_begin, b.vertex_end);
+  if (ranges.empty()) ranges.emplace_back(0, num_vertices);
+  return ranges;
+}
+
+}  // namespace
+
 Eigen::VectorXd rigid_predictor(const Eigen::VectorXd& from, const Eigen::VectorXd& to,
-                                const Eigen::VectorXd& vertex_masses) {
-  const Eigen::Index n = vertex_masses.size();
-  const Eigen::Vector3d a = centre_of_mass(from, vertex_masses), b = centre_of_mass(to, vertex_masses);
-  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();  // sum m (to - b)(from - a)^T
-  for (Eigen::Index i = 0; i < n; ++i) {
-    S += vertex_masses[i] * (to.segment<3>(3 * i) - b) * (from.segment<3>(3 * i) - a).transpose();
+                                const Eigen::VectorXd& vertex_masses,
+                                const std::vector<Body>& bodies) {
+  Eigen::VectorXd out = to;
+  for (const auto& [begin, end] : rigid_ranges(bodies, vertex_masses.size())) {
+    const Eigen::Index n = end - begin;
+    const auto m = vertex_masses.segment(begin, n);
+    const auto f = from.segment(3 * begin, 3 * n), t = to.segment(3 * begin, 3 * n);
+    const Eigen::Vector3d a = centre_of_mass(f, m), b = centre_of_mass(t, m);
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();  // sum m (to - b)(from - a)^T
+    for (Eigen::Index i = 0; i < n; ++i) {
+      S += m[i] * (t.segment<3>(3 * i) - b) * (f.segment<3>(3 * i) - a).transpose();
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+    D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+    const Eigen::Matrix3d R = svd.matrixU() * D * svd.matrixV().transpose();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      out.segment<3>(3 * (begin + i)) = b + R * (f.segment<3>(3 * i) - a);
+    }
   }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  const Eigen::Matrix3d R = svd.matrixU() * D * svd.matrixV().transpose();
-  Eigen::VectorXd out(3 * n);
-  for (Eigen::Index i = 0; i < n; ++i) out.segment<3>(3 * i) = b + R * (from.segment<3>(3 * i) - a);
   return out;
 }
 
 Eigen::VectorXd rigid_newton_step(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
                                   const Eigen::SparseMatrix<double>& H_lower,
-                                  const Eigen::VectorXd& vertex_masses) {
+                                  const Eigen::VectorXd& vertex_masses,
+                                  const std::vector<Body>& bodies) {
   const Eigen::Index n = vertex_masses.size();
-  if (!(vertex_masses.sum() > 0) || x.size() != 3 * n || g.size() != 3 * n) return {};
-  const Eigen::Vector3d c = centre_of_mass(x, vertex_masses);
-  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 * n, 6);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = x.segment<3>(3 * i) - c;
-    G.block<3, 3>(3 * i, 0).setIdentity();
-    // Column 3 + k: e_k x r.
-    G.block<3, 3>(3 * i, 3) << 0, r.z(), -r.y(), -r.z(), 0, r.x(), r.y(), -r.x(), 0;
+  if (x.size() != 3 * n || g.size() != 3 * n) return {};
+  const auto ranges = rigid_ranges(bodies, n);
+  const Eigen::Index k = static_cast<Eigen::Index>(ranges.size());
+  std::vector<Eigen::Vector3d> centres;
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(3 * n, 6 * k);
+  for (Eigen::Index b = 0; b < k; ++b) {
+    const auto [begin, end] = ranges[b];
+    const auto m = vertex_masses.segment(begin, end - begin);
+    if (!(m.sum() > 0)) return {};
+    centres.push_back(centre_of_mass(x.segment(3 * begin, 3 * (end - begin)), m));
+    for (Eigen::Index i = begin; i < end; ++i) {
+      const Eigen::Vector3d r = x.segment<3>(3 * i) - centres[b];
+      G.block<3, 3>(3 * i, 6 * b).setIdentity();
+      // Column 6 b + 3 + j: e_j x r.
+      G.block<3, 3>(3 * i, 6 * b + 3) << 0, r.z(), -r.y(), -r.z(), 0, r.x(), r.y(), -r.x(), 0;
+    }
   }
   const Eigen::MatrixXd HG = H_lower.selfadjointView<Eigen::Lower>() * G;
-  const Eigen::Matrix<double, 6, 6> A = G.transpose() * HG;
-  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(0.5 * (A + A.transpose()));
+  const Eigen::MatrixXd A = G.transpose() * HG;
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (A + A.transpose()));
   if (llt.info() != Eigen::Success) return {};
-  const Eigen::Matrix<double, 6, 1> d = llt.solve(-(G.transpose() * g));
-  const Eigen::Vector3d t = d.head<3>(), w = d.tail<3>();
-  const double angle = w.norm();
-  Eigen::Matrix3d Rm = Eigen::Matrix3d::Zero();
-  if (angle > 0 && std::isfinite(angle)) {
-    Rm = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() - Eigen::Matrix3d::Identity();
+  const Eigen::VectorXd d = llt.solve(-(G.transpose() * g));
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(3 * n);
+  for (Eigen::Index b = 0; b < k; ++b) {
+    const Eigen::Vector3d t = d.segment<3>(6 * b), w = d.segment<3>(6 * b + 3);
+    const double angle = w.norm();
+    Eigen::Matrix3d Rm = Eigen::Matrix3d::Zero();
+    if (angle > 0 && std::isfinite(angle)) {
+      Rm = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() - Eigen::Matrix3d::Identity();
+    }
+    for (Eigen::Index i = ranges[b].first; i < ranges[b].second; ++i) {
+      out.segment<3>(3 * i) = t + Rm * (x.segment<3>(3 * i) - centres[b]);
+    }
   }
-  Eigen::VectorXd out(3 * n);
-  for (Eigen::Index i = 0; i < n; ++i) out.segment<3>(3 * i) = t + Rm * (x.segment<3>(3 * i) - c);
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "rbaa/error.hpp"
@@ -59,10 +60,45 @@ const SimulationSettings& validated(const SimulationSettings& s) {
   return s;
 }
 
+void check_bodies(const std::vector<Body>& bodies, const TetMesh& rest) {
+  int vertex = 0, element = 0;
+  for (const Body& b : bodies) {
+    if (b.vertex_begin != vertex || b.element_begin != element || b.num_vertices() < 4 ||
+        b.num_elements() < 1) {
+      throw InputError("simulation: body " + b.name +
+                       " is not the next non-empty vertex and element range of the mesh");
+    }
+    for (int e = b.element_begin; e < b.element_end; ++e) {
+      if (rest.T.row(e).minCoeff() < b.vertex_begin || rest.T.row(e).maxCoeff() >= b.vertex_end) {
+        throw InputError("simulation: element " + std::to_string(e) + " of body " + b.name +
+                         " uses a vertex of another body");
+      }
+    }
+    vertex = b.vertex_end;
+    element = b.element_end;
+  }
+  if (!bodies.empty() && (vertex != rest.num_vertices() || element != rest.num_tets())) {
+    throw InputError("simulation: the bodies do not cover the mesh");
+  }
+}
+
+// The tolerance's length: the rest bounding-box diagonal of the smallest body (of the mesh when
+// it is one body), so that a small body far from a large one is solved as tightly as alone.
+double tolerance_length(const SimulationSettings& s, const TetMesh& rest) {
+  if (s.bodies.size() < 2) return bounding_box_diagonal(rest);
+  double length = std::numeric_limits<double>::infinity();
+  for (const Body& b : s.bodies) {
+    const auto V = rest.V.middleRows(b.vertex_begin, b.num_vertices());
+    length = std::min(length, (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm());
+  }
+  return length;
+}
+
 NewtonSettings newton_settings(const SimulationSettings& s, const TetMesh& rest) {
+  check_bodies(s.bodies, rest);
   NewtonSettings n;
   n.time_step = s.time_step;
-  n.velocity_tolerance = s.newton_tolerance * bounding_box_diagonal(rest);
+  n.velocity_tolerance = s.newton_tolerance * tolerance_length(s, rest);
   n.max_iterations = s.newton_max_iterations;
   n.exact_hessian_factor = s.exact_hessian_factor;
   return n;
@@ -92,7 +128,7 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
   });
   if (settings_.rigid_predictor) newton_.set_subspace_step([this](const Eigen::VectorXd& x, const Eigen::VectorXd& g,
                                    const Eigen::SparseMatrix<double>& H) {
-    return rigid_newton_step(x, g, H, vertex_masses_);
+    return rigid_newton_step(x, g, H, vertex_masses_, settings_.bodies);
   });
 }
 
@@ -180,7 +216,7 @@ StepStats Simulator::advance() {
   // free-flight step. The previous shape moved rigidly onto the guess (its centre of mass and
   // best-fit rotation) has no such stretch; it is used when admissible and lower in energy.
   if (settings_.rigid_predictor) {
-    const Eigen::VectorXd rigid = rigid_predictor(q_n, guess, vertex_masses_);
+    const Eigen::VectorXd rigid = rigid_predictor(q_n, guess, vertex_masses_, settings_.bodies);
     if (rigid.allFinite() && potential_->max_step_size(q_n, rigid) >= 1.0 &&
         potential_->is_step_valid(q_n, rigid) && potential_->value_difference(x, rigid) < 0) {
       x = rigid;

@@ -42,6 +42,10 @@ struct GradientCheckOptions {
   /// false: directions in theta; true: in material space (the design's fields, every element;
   /// alpha only on interior elements).
   bool material_space = false;
+  /// Directions move only elements [element_begin, element_end) (-1: to the last), e.g. one
+  /// body's of a stacked mesh; the default moves every element.
+  int element_begin = 0;
+  int element_end = -1;
   /// Finite-difference errors above this are re-measured at 4x the step (noise test).
   double fd_tolerance = 1e-5;
   /// Tangent-vs-adjoint normwise error that passes (or 4x the tangent's measured round-off, if

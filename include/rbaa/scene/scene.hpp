@@ -28,6 +28,22 @@ struct MeshSource {
   double volume = 0;
 };
 
+/// A further body besides the object (bodies[i]): its mesh, initial state and fixed material. The
+/// object is the body an attack designs; these keep their material.
+struct BodySpec {
+  std::string name;  ///< bodies[i].name, unique; default "bodies[i]"
+  MeshSource mesh;
+  // As the object's: centre of mass at `position` after the rotation about the centre.
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();          ///< m
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< m/s
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< rad/s
+  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitX();
+  double rotation_angle_deg = 0.0;
+  /// A materials file (.msh with fields, or materials CSV) for its elements; empty: the scene's
+  /// reference material.
+  std::string materials_file;
+};
+
 /// Closed interval [lo, hi].
 struct Range {
   double lo = 0, hi = 0;
@@ -46,6 +62,9 @@ struct Scene {
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< rad/s
   Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitX();
   double rotation_angle_deg = 0.0;
+
+  /// Further bodies (the config's `bodies` list), stacked after the object in the simulated mesh.
+  std::vector<BodySpec> bodies;
 
   std::vector<Plane> planes;
   std::vector<ObstacleMesh> obstacle_meshes;  ///< read and placed by load_scene

@@ -16,6 +16,11 @@ namespace rbaa {
 /// This is the reference placement attacks design on.
 TetMesh make_scene_mesh(const Scene& scene);
 
+/// A further body's mesh (scene.bodies[i]) placed like the object: rotated about its volume
+/// centroid, which is then at body.position. Throws rbaa::InputError naming the body if it
+/// touches an obstacle.
+TetMesh make_body_mesh(const Scene& scene, const BodySpec& body);
+
 /// Translates a placed mesh so that its centre of mass under the per-element density (#T,
 /// kg/m^3, rho alpha: element masses rho alpha V) is at scene.position, which is what
 /// object.position means. make_scene_mesh puts the volume centroid there, which is the centre of

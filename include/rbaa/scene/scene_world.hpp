@@ -1,6 +1,9 @@
 #pragma once
 // What scene/ derives from a config for the simulator: its settings and its barrier stiffness.
 
+#include <vector>
+
+#include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/sim/simulator.hpp"
@@ -16,5 +19,27 @@ SimulationSettings simulation_settings(const Scene& scene, double kappa);
 /// rbaa::InputError if the rule has nothing to go on (no speed and no fall) and the scene sets no
 /// kappa.
 double scene_barrier_stiffness(const Scene& scene, const TetMesh& placed);
+
+/// Every body of a scene in one mesh: the object first, then scene.bodies in order.
+struct SceneWorld {
+  TetMesh mesh;              ///< the placed rest meshes, stacked
+  std::vector<Body> bodies;  ///< ranges, centres (centres of mass) and initial motions
+  /// The materials of the elements after the object's (the further bodies'), fixed.
+  MaterialField fixed_materials;
+
+  /// The stacked field: the object's materials, then the fixed ones. Throws rbaa::InputError
+  /// naming `source` when `object` does not fit the object's mesh.
+  MaterialField materials(const MaterialField& object, const std::string& source = "materials") const;
+  /// The object's rows of a stacked per-element vector (e.g. a material gradient).
+  Eigen::VectorXd object_part(const Eigen::VectorXd& stacked) const {
+    return stacked.head(bodies.front().num_elements());
+  }
+};
+
+/// The world of a scene whose object is `object_mesh` (placed: make_scene_mesh, or moved by
+/// place_centre_of_mass) and centred at scene.position: meshes and places every further body
+/// (make_body_mesh), with its materials file or the reference material, its centre of mass moved
+/// to its position. Throws rbaa::InputError naming both bodies when two start closer than d_hat.
+SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh);
 
 }  // namespace rbaa

@@ -13,6 +13,7 @@
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_world.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
 #include "rbaa/sim/trajectory.hpp"
@@ -28,7 +29,8 @@ struct SimulationOptions {
   NewtonSolver::IterationCallback on_newton_iteration;
 };
 
-/// Per-position observables (index k = position q_k, k = 0 .. N).
+/// Per-position observables (index k = position q_k, k = 0 .. N): the object's motion (the first
+/// body's), the whole system's momenta and contact distances.
 struct StepObservables {
   double time = 0;
   Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();
@@ -38,11 +40,13 @@ struct StepObservables {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< best fit from q_0
   double min_distance = 0;           ///< to any plane (m)
   std::vector<double> plane_distance;  ///< per plane (m)
+  std::vector<Eigen::Vector3d> body_centres;  ///< centres of mass of the further bodies
 };
 
 struct SimulationRun {
-  TetMesh mesh;  ///< rest shape = the placed reference mesh
+  TetMesh mesh;  ///< rest shape: the placed reference mesh (then the further bodies', stacked)
   MaterialField materials;
+  std::vector<Body> bodies;  ///< the object, then the scene's further bodies
   SimulationSettings settings;
   bool kappa_from_rule = false;
   Trajectory trajectory;

@@ -29,6 +29,7 @@
 
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 
@@ -62,15 +63,20 @@ Eigen::VectorXd rigid_rotation_correction(const Eigen::VectorXd& x, const Eigen:
 /// initial guess for a stiff spinning body: the extrapolated positions `to` rotate its vertices
 /// along chords, which stretches the body by theta^2 / 2 and, at Y = 1e13, loads the Hessian's
 /// rotations with a geometric stiffness ~1e6 times their inertia.
+/// With `bodies`, each body is moved by its own fit; vertices outside every body take `to`.
 Eigen::VectorXd rigid_predictor(const Eigen::VectorXd& from, const Eigen::VectorXd& to,
-                                const Eigen::VectorXd& vertex_masses);
+                                const Eigen::VectorXd& vertex_masses,
+                                const std::vector<Body>& bodies = {});
 
 /// A Newton step restricted to the rigid motions of the whole body (mass-weighted centre c,
 /// translations and rotations about c): with G the 3 #V x 6 basis, solves (G^T H G) d = -G^T g for
 /// the lower triangle H of a Hessian and returns the step with its rotation applied as a finite
-/// rotation, t + (exp([w]x) - I) r_i. Empty if G^T H G is not positive definite.
+/// rotation, t + (exp([w]x) - I) r_i. Empty if G^T H G is not positive definite. With `bodies`,
+/// each body has its own six rigid motions (G is 3 #V x 6 #bodies; contact couples them in H);
+/// vertices outside every body do not move.
 Eigen::VectorXd rigid_newton_step(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
                                   const Eigen::SparseMatrix<double>& H_lower,
-                                  const Eigen::VectorXd& vertex_masses);
+                                  const Eigen::VectorXd& vertex_masses,
+                                  const std::vector<Body>& bodies = {});
 
 }  // namespace rbaa

@@ -42,6 +42,10 @@ struct SimulationSettings {
   std::vector<Plane> planes;
   /// Static triangle-mesh obstacles (placed); none: no mesh-obstacle form at all.
   std::vector<ObstacleMesh> obstacle_meshes;
+  /// The bodies as vertex and element ranges of the mesh, in order and covering it; empty: the
+  /// whole mesh is one body. With more than one, bodies touch through IPC contact, and the rigid
+  /// predictor and sub-step move each body by its own rigid motion.
+  std::vector<Body> bodies;
   double d_hat = 1e-3;  ///< m
   double kappa = 0;     ///< J per unit of b; must be > 0 when there are obstacles
   /// Newton tolerance on ||dq||_inf / h relative to the rest bounding-box diagonal per second.

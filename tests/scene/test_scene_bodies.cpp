@@ -1,0 +1,149 @@
+// bodies: further bodies besides the object, each with its mesh, initial state and fixed
+// material; stacked after the object into one mesh (SceneWorld); bad input a one-line error
+// naming the key; a body starting in an obstacle refused naming it; the fingerprint sees them.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <string>
+
+#include "rbaa/error.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_fingerprint.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
+
+namespace rbaa {
+namespace {
+
+// Two cubes 0.2 m apart along x, the second one spinning, on no obstacle, without gravity.
+std::string two_cubes(const std::string& extra = "") {
+  return "mesh: {shape: cube, side: 0.1, target_tets: 300}\n"
+         "object: {position: [0, 0, 0], velocity: [1, 0, 0]}\n"
+         "gravity: off\n"
+         "bodies:\n"
+         "  - name: second\n"
+         "    mesh: {shape: cube, side: 0.05, target_tets: 100}\n"
+         "    position: [0.2, 0.01, 0]\n"
+         "    velocity: [-1, 0, 0]\n"
+         "    angular_velocity: [0, 0, 3]\n" +
+         extra;
+}
+
+std::string error_of(const std::string& yaml) {
+  try {
+    const Scene s = parse_scene(yaml, "test.yaml", "");
+    make_world(s, make_scene_mesh(s));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneBodies, AreStackedAfterTheObjectWithTheirOwnPlacementAndMotion) {
+  const Scene s = parse_scene(two_cubes(), "test.yaml", "");
+  ASSERT_EQ(s.bodies.size(), 1u);
+  EXPECT_EQ(s.bodies[0].name, "second");
+  const TetMesh object = make_scene_mesh(s);
+  const SceneWorld w = make_world(s, object);
+  ASSERT_EQ(w.bodies.size(), 2u);
+  const Body& a = w.bodies[0];
+  const Body& b = w.bodies[1];
+  EXPECT_EQ(a.vertex_begin, 0);
+  EXPECT_EQ(a.vertex_end, object.num_vertices());
+  EXPECT_EQ(b.vertex_begin, a.vertex_end);
+  EXPECT_EQ(b.vertex_end, w.mesh.num_vertices());
+  EXPECT_EQ(b.element_begin, a.element_end);
+  EXPECT_EQ(b.element_end, w.mesh.num_tets());
+  // The second body's elements index its own vertices only.
+  EXPECT_GE(w.mesh.T.bottomRows(b.num_elements()).minCoeff(), b.vertex_begin);
+  // Its centre of mass is at its position; its side is 0.05 m.
+  TetMesh second;
+  second.V = w.mesh.V.middleRows(b.vertex_begin, b.num_vertices());
+  second.T = w.mesh.T.bottomRows(b.num_elements()).array() - b.vertex_begin;
+  const Moments m = compute_moments(second, 1.0);
+  EXPECT_LT((m.centre_of_mass() - Eigen::Vector3d(0.2, 0.01, 0)).norm(), 1e-12);
+  EXPECT_NEAR((second.V.colwise().maxCoeff() - second.V.colwise().minCoeff()).maxCoeff(), 0.05, 1e-12);
+  EXPECT_EQ(b.velocity, Eigen::Vector3d(-1, 0, 0));
+  EXPECT_EQ(b.angular_velocity, Eigen::Vector3d(0, 0, 3));
+  // Initial velocities: each body's rigid motion about its own centre.
+  const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(w.mesh.V.data(), 3 * w.mesh.num_vertices());
+  const Eigen::VectorXd v0 = initial_velocities(q0, w.bodies);
+  EXPECT_EQ(v0.segment<3>(0), Eigen::Vector3d(1, 0, 0));
+  const int v = b.vertex_begin;
+  const Eigen::Vector3d expected =
+      Eigen::Vector3d(-1, 0, 0) + Eigen::Vector3d(0, 0, 3).cross(q0.segment<3>(3 * v) - b.centre);
+  EXPECT_LT((v0.segment<3>(3 * v) - expected).norm(), 1e-15);
+  // The fixed materials are the reference material; the object's come first.
+  const MaterialField all = w.materials(MaterialField::uniform(object.num_tets(), 1e9, 0.3, 1000));
+  ASSERT_EQ(all.size(), w.mesh.num_tets());
+  EXPECT_EQ(all.Y[0], 1e9);
+  EXPECT_EQ(all.Y[b.element_begin], s.reference_Y);
+  EXPECT_EQ(all.rho[w.mesh.num_tets() - 1], s.reference_rho);
+}
+
+TEST(SceneBodies, ASceneWithoutBodiesIsTheObjectAlone) {
+  const Scene s = parse_scene("mesh: {shape: cube, target_tets: 100}\nobject: {velocity: [1, 0, 0]}\n",
+                              "test.yaml", "");
+  const TetMesh object = make_scene_mesh(s);
+  const SceneWorld w = make_world(s, object);
+  ASSERT_EQ(w.bodies.size(), 1u);
+  EXPECT_EQ(w.mesh.V, object.V);
+  EXPECT_EQ(w.mesh.T, object.T);
+  EXPECT_EQ(w.fixed_materials.size(), 0);
+}
+
+TEST(SceneBodies, BadBodiesAreRefusedInOneLineNamingTheKey) {
+  const std::string dup = error_of(two_cubes("  - name: second\n    mesh: {shape: cube}\n    position: [1, 0, 0]\n"));
+  EXPECT_NE(dup.find("bodies[1].name"), std::string::npos) << dup;
+  EXPECT_NE(dup.find("'second' names two bodies"), std::string::npos) << dup;
+  const std::string object_name = error_of(two_cubes("  - name: object\n    mesh: {shape: cube}\n"));
+  EXPECT_NE(object_name.find("'object' names two bodies"), std::string::npos) << object_name;
+  const std::string no_mesh = error_of(two_cubes("  - position: [1, 0, 0]\n"));
+  EXPECT_NE(no_mesh.find("bodies[1].mesh"), std::string::npos) << no_mesh;
+  const std::string two_sources =
+      error_of(two_cubes("  - mesh: {shape: cube, file: x.msh}\n    position: [1, 0, 0]\n"));
+  EXPECT_NE(two_sources.find("bodies[1].mesh"), std::string::npos) << two_sources;
+  EXPECT_NE(two_sources.find("exactly one of shape, surface, file"), std::string::npos) << two_sources;
+  const std::string unknown = error_of(two_cubes("  - mesh: {shape: cube}\n    colour: red\n"));
+  EXPECT_NE(unknown.find("bodies[1].colour"), std::string::npos) << unknown;
+  const std::string not_a_list = error_of("mesh: {shape: cube}\nbodies: {name: x}\n");
+  EXPECT_NE(not_a_list.find("expected a list of bodies"), std::string::npos) << not_a_list;
+  const std::string bad_rotation =
+      error_of(two_cubes("  - mesh: {shape: cube}\n    position: [1, 0, 0]\n    rotation: {axis: [0, 0, 0], angle_deg: 10}\n"));
+  EXPECT_NE(bad_rotation.find("bodies[1].rotation.axis"), std::string::npos) << bad_rotation;
+  for (const std::string& e : {dup, object_name, no_mesh, two_sources, unknown, not_a_list, bad_rotation}) {
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    EXPECT_EQ(e.rfind("test.yaml", 0), 0u) << e;
+  }
+}
+
+TEST(SceneBodies, ABodyStartingOnAPlaneIsRefusedNamingIt) {
+  const std::string e = error_of(two_cubes("obstacles: {planes: [{normal: [0, 0, 1], offset: -0.02}]}\n"
+                                           "contact: {kappa: 1}\n"));
+  // The object (side 0.1, centred at 0) crosses z = -0.02 first; move it up to reach the body.
+  EXPECT_NE(e.find("the object starts intersecting obstacles.planes[0]"), std::string::npos) << e;
+  const std::string b = error_of(
+      "mesh: {shape: cube, side: 0.1, target_tets: 100}\nobject: {position: [0, 0, 1]}\n"
+      "obstacles: {planes: [{normal: [0, 0, 1], offset: 0}]}\ncontact: {kappa: 1}\n"
+      "bodies: [{name: low, mesh: {shape: cube, side: 0.1}, position: [1, 0, 0.04]}]\n");
+  EXPECT_NE(b.find("body 'low' starts intersecting obstacles.planes[0]"), std::string::npos) << b;
+  EXPECT_EQ(b.find('\n'), std::string::npos) << b;
+}
+
+TEST(SceneBodies, TheFingerprintSeesEveryBody) {
+  const Scene a = parse_scene(two_cubes(), "test.yaml", "");
+  std::string faster = two_cubes();
+  faster.replace(faster.find("velocity: [-1"), 13, "velocity: [-2");
+  const Scene b = parse_scene(faster, "test.yaml", "");
+  const Scene c = parse_scene("mesh: {shape: cube, side: 0.1, target_tets: 300}\n"
+                              "object: {position: [0, 0, 0], velocity: [1, 0, 0]}\ngravity: off\n",
+                              "test.yaml", "");
+  EXPECT_NE(scene_fingerprint(a), scene_fingerprint(b));
+  EXPECT_NE(scene_fingerprint(a), scene_fingerprint(c));
+}
+
+}  // namespace
+}  // namespace rbaa
