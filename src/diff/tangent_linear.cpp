@@ -135,6 +135,8 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
   for (int k = 0; k < N; ++k) {
     ++result.stats.steps;
     const Eigen::VectorXd& x = traj.q[k + 1];
+    PlaneFrictionForm* friction = sim.plane_friction_form();
+    if (friction != nullptr) friction->lag(traj.position(k), traj.position(k - 1));
     IncrementalPotential& E = sim.potential();
     E.solution_changed(x);
     const int fb0 = factorizer.num_ldlt_fallbacks();
@@ -151,9 +153,10 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
     for (std::size_t i = 0; i < nd; ++i) {
       dq_hat.setZero();
       for (int j = 0; j < static_cast<int>(c.size()); ++j) dq_hat += c[j] * dq[i][k - j + 3];
-      const Eigen::VectorXd rhs = sim.inertia_form().multiply(dq_hat) -
-                                  material_forcing(sim, materials, directions[i].materials, x, u,
-                                                   w, consistent);
+      Eigen::VectorXd rhs = sim.inertia_form().multiply(dq_hat) -
+                            material_forcing(sim, materials, directions[i].materials, x, u, w,
+                                             consistent);
+      if (friction != nullptr) rhs -= friction->history_tangent(x, dq[i][k + 3], dq[i][k + 2], w);
       dq[i][k + 4] = factorizer.solve(rhs);
       result.derivatives[i] += dot_or_zero(seed.dq[k + 1], dq[i][k + 4]);
       result.bounds[i] += norm_product(seed.dq[k + 1], dq[i][k + 4]);

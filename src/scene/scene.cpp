@@ -279,6 +279,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
         if (has_offset == has_point) p.fail(planes[i], "", "give exactly one of offset, point");
         plane.offset = has_offset ? p.number("offset", 0, -inf, inf)
                                   : plane.normal.dot(p.vector3("point", Eigen::Vector3d::Zero()));
+        // NaN: contact.friction's, filled in below.
+        plane.friction = p.number("friction", std::numeric_limits<double>::quiet_NaN(), 0.0, inf);
         p.finish();
         s.planes.push_back(plane);
       }
@@ -367,7 +369,12 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
       if (k.IsScalar() && k.Scalar() == "auto") s.kappa = 0;
       else s.kappa = c.number("kappa", 0, 0.0, inf, true);
     }
+    s.friction = c.number("friction", s.friction, 0.0, inf);
+    s.friction_eps_v = c.number("friction_eps_v", s.friction_eps_v, 0.0, inf, true);
     c.finish();
+    for (Plane& plane : s.planes) {
+      if (std::isnan(plane.friction)) plane.friction = s.friction;
+    }
   }
   {
     MapReader n(top.child("newton"), source, "newton");

@@ -62,7 +62,12 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "object.velocity " << vector3(s.velocity) << "\n";
   t << "object.angular_velocity " << vector3(s.angular_velocity) << "\n";
   t << "object.rotation " << vector3(s.rotation_axis) << " " << number(s.rotation_angle_deg) << "\n";
-  for (const Plane& p : s.planes) t << "plane " << vector3(p.normal) << " " << number(p.offset) << "\n";
+  for (const Plane& p : s.planes) {
+    t << "plane " << vector3(p.normal) << " " << number(p.offset);
+    // Frictionless planes print as before, so older fingerprints stay valid.
+    if (p.friction != 0) t << " friction " << number(p.friction) << " " << number(s.friction_eps_v);
+    t << "\n";
+  }
   // Only scenes with obstacle meshes print these lines, so older fingerprints stay valid.
   for (const ObstacleMesh& m : s.obstacle_meshes) {
     t << "obstacle.mesh " << file_content(m.file) << " " << vector3(m.position) << " "

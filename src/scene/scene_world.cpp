@@ -20,6 +20,7 @@ SimulationSettings simulation_settings(const Scene& scene, double kappa) {
   s.planes = scene.planes;
   s.obstacle_meshes = scene.obstacle_meshes;
   s.d_hat = scene.d_hat;
+  s.friction_eps_v = scene.friction_eps_v;
   s.kappa = kappa;
   s.newton_tolerance = scene.newton_tolerance;
   s.newton_max_iterations = scene.newton_max_iterations;

@@ -28,6 +28,7 @@ void check_positive(double value, const char* what) {
 const SimulationSettings& validated(const SimulationSettings& s) {
   check_positive(s.time_step, "the time step h");
   check_positive(s.d_hat, "the barrier activation distance d_hat");
+  check_positive(s.friction_eps_v, "friction's smoothing speed eps_v");
   check_positive(s.newton_tolerance, "the Newton tolerance");
   if (!(s.exact_hessian_factor > 0)) throw InputError("simulation: the exact-Hessian switch factor must be > 0");
   if (s.num_steps < 0) throw InputError("simulation: negative number of steps");
@@ -122,6 +123,13 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
     mesh_contact_ = std::make_unique<MeshObstacleForm>(rest_, settings_.obstacle_meshes,
                                                        settings_.d_hat, settings_.kappa);
   }
+  std::vector<double> mu;
+  for (const Plane& plane : settings_.planes) mu.push_back(plane.friction);
+  if (std::any_of(mu.begin(), mu.end(), [](double m) { return m != 0; })) {
+    plane_friction_ = std::make_unique<PlaneFrictionForm>(
+        surface_vertices_, settings_.planes, mu, settings_.d_hat, settings_.kappa,
+        settings_.friction_eps_v, settings_.integrator, settings_.time_step);
+  }
   build_mass_forms(materials);
   newton_.set_step_transform([this](const Eigen::VectorXd& x, const Eigen::VectorXd& dq) {
     return rigid_rotation_correction(x, dq, vertex_masses_, rigid_clusters_);
@@ -145,6 +153,7 @@ void Simulator::build_mass_forms(const MaterialField& materials) {
   if (settings_.gravity.squaredNorm() > 0) potential_->add(*gravity_, w);
   if (!settings_.planes.empty()) potential_->add(*contact_, w);
   if (mesh_contact_) potential_->add(*mesh_contact_, w);
+  if (plane_friction_) potential_->add(*plane_friction_, w);
 }
 
 void Simulator::set_materials(const MaterialField& materials, const std::string& source) {
@@ -196,6 +205,7 @@ StepStats Simulator::advance() {
   const Eigen::VectorXd& q_n = integrator_.current();
   const Eigen::VectorXd q_hat = integrator_.predictor();
   inertia_->set_predictor(q_hat);
+  if (plane_friction_) plane_friction_->lag(q_n, integrator_.past(1));
 
   // Start from the ballistic guess q_hat + w g (the exact answer for a free, undeformed body:
   // M (q - q_hat) = w M g) when the straight path to it is admissible, else from q_n. Starting

@@ -91,6 +91,9 @@ struct Scene {
   // Contact (IPC log barrier on unsigned distances).
   double d_hat = 1e-3;  ///< activation distance (m)
   double kappa = 0.0;   ///< barrier stiffness (J per unit of b); 0 = choose by the energy rule
+  /// Coulomb coefficient of every plane that sets none (obstacles.planes[i].friction); 0: none.
+  double friction = 0.0;
+  double friction_eps_v = 1e-3;  ///< friction's smoothing speed (m/s)
 
   // Newton.
   double newton_tolerance = 1e-8;  ///< on ||dq||_inf / h, relative to the rest bbox diagonal per s

@@ -27,6 +27,7 @@
 #include "rbaa/sim/inertia_form.hpp"
 #include "rbaa/sim/mesh_obstacle_form.hpp"
 #include "rbaa/sim/newton_solver.hpp"
+#include "rbaa/sim/plane_friction_form.hpp"
 #include "rbaa/sim/sparse_hessian.hpp"
 #include "rbaa/sim/trajectory.hpp"
 #include "rbaa/sim/world.hpp"
@@ -47,6 +48,9 @@ struct SimulationSettings {
   /// predictor and sub-step move each body by its own rigid motion.
   std::vector<Body> bodies;
   double d_hat = 1e-3;  ///< m
+  /// Friction's smoothing speed eps_v (m/s, plane_friction_form.hpp): Coulomb above it, a creep
+  /// below. Used only when some plane has a friction coefficient.
+  double friction_eps_v = 1e-3;
   double kappa = 0;     ///< J per unit of b; must be > 0 when there are obstacles
   /// Newton tolerance on ||dq||_inf / h relative to the rest bounding-box diagonal per second.
   double newton_tolerance = 1e-8;
@@ -100,6 +104,8 @@ class Simulator {
   ContactForm& contact_form() { return *contact_; }
   /// The mesh-obstacle contact form, or null when the settings have no obstacle meshes.
   MeshObstacleForm* mesh_obstacle_form() { return mesh_contact_.get(); }
+  /// Friction against planes, or null when no plane has a friction coefficient.
+  PlaneFrictionForm* plane_friction_form() { return plane_friction_.get(); }
 
  private:
   void build_mass_forms(const MaterialField& materials);
@@ -115,6 +121,7 @@ class Simulator {
   std::unique_ptr<GravityForm> gravity_;
   std::unique_ptr<ContactForm> contact_;
   std::unique_ptr<MeshObstacleForm> mesh_contact_;
+  std::unique_ptr<PlaneFrictionForm> plane_friction_;
   std::unique_ptr<IncrementalPotential> potential_;
   BdfIntegrator integrator_;
   NewtonSolver newton_;

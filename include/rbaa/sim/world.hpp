@@ -16,6 +16,7 @@ namespace rbaa {
 struct Plane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double offset = 0.0;
+  double friction = 0.0;  ///< Coulomb coefficient mu of bodies against it (0: frictionless)
 };
 
 /// A static triangle-mesh obstacle (obstacles.meshes[i]): the file's triangles placed in the world
