@@ -80,11 +80,13 @@ TetMesh apex_down(const Eigen::Vector3d& p) {
 TetMesh ridge_up() {
   return tet({0, 0, 0}, {kL, 0, 0}, {kL / 2, -kL / 2, -kL}, {kL / 2, kL / 2, -kL});
 }
-// A tet whose bottom is the ridge s - s + L dir, dir horizontal.
+// A tet whose bottom is the ridge s - s + 0.7 L dir, dir horizontal (shorter than ridge_up's, so
+// that the mollifier's eps_x depends on both edges' lengths).
 TetMesh ridge_down(const Eigen::Vector3d& s, const Eigen::Vector3d& dir) {
-  const Eigen::Vector3d m = s + 0.5 * kL * dir;
+  const double length = 0.7 * kL;
+  const Eigen::Vector3d m = s + 0.5 * length * dir;
   const Eigen::Vector3d side(-dir.y(), dir.x(), 0.0);
-  return tet(s, s + kL * dir, m + kL * (Eigen::Vector3d(0, 0, 1) + 0.5 * side),
+  return tet(s, s + length * dir, m + kL * (Eigen::Vector3d(0, 0, 1) + 0.5 * side),
              m + kL * (Eigen::Vector3d(0, 0, 1) - 0.5 * side));
 }
 
@@ -174,14 +176,15 @@ struct Case {
 std::vector<Case> cases(double d) {
   const double h = 1e-2 * std::min(d, kDHat - d);
   const auto turned = [](double a) { return Eigen::Vector3d(std::cos(a), std::sin(a), 0); };
-  // Ridges turned by a whose lines cross at x = L / 8 (before a starts at L / 4) or 0.6 L.
+  // Ridges turned by a whose lines cross at x = L / 8 (before a starts at L / 4) or 0.6 L (a
+  // runs from 0.25 L to 0.95 L).
   const auto end_to_line = [&](double a) {
     return stack(
         {ridge_up(), ridge_down(Eigen::Vector3d(kL / 8, 0, d) + kL / 8 * turned(a), turned(a))});
   };
   const auto line_to_line = [&](double a) {
-    return stack(
-        {ridge_up(), ridge_down(Eigen::Vector3d(0.6 * kL, 0, d) - kL / 2 * turned(a), turned(a))});
+    return stack({ridge_up(),
+                  ridge_down(Eigen::Vector3d(0.6 * kL, 0, d) - 0.35 * kL * turned(a), turned(a))});
   };
   return {
       {"vertex over face", stack({face_up(), apex_down({kL / 4, kL / 4, d})}), d, h},
@@ -225,8 +228,9 @@ TEST(BodyContactForm, DerivativesMatchFiniteDifferencesForEveryFeatureKind) {
       const double gradient_error = test::relative_error(g, test::fd_gradient5(value, q, eps));
       SparseHessian H(c.bodies.mesh.T, c.bodies.mesh.num_vertices());
       const Eigen::MatrixXd Hx = test::form_hessian(form, q, HessianKind::kExact, H);
-      // Directions for the Hessian: along the gradient, then (unless the whole Hessian is
-      // compared) random translations of the two bodies in the x-z plane.
+      // Directions: along the gradient, then (unless the whole Hessian is compared) random
+      // translations of the two bodies in the x-z plane, the only ones along which the Hessian
+      // is compared then (the gradient has sideways parts, which turn the edges).
       std::vector<Eigen::VectorXd> directions = {-g.normalized()};
       double hessian_error = 0;
       if (c.whole_hessian) {
@@ -242,12 +246,14 @@ TEST(BodyContactForm, DerivativesMatchFiniteDifferencesForEveryFeatureKind) {
         }
       }
       double slope_error = 0, direction_error = 0;
-      for (const Eigen::VectorXd& u : directions) {
+      for (std::size_t k = 0; k < directions.size(); ++k) {
+        const Eigen::VectorXd& u = directions[k];
         const auto along = [&](double t) { return Eigen::VectorXd(q + t * u); };
         const double slope =
             test::fd_gradient5([&](const Eigen::VectorXd& t) { return value(along(t[0])); },
                                Eigen::VectorXd::Zero(1), eps)[0];
         slope_error = std::max(slope_error, std::abs(slope - g.dot(u)) / std::abs(g.dot(u)));
+        if (k == 0 && !c.whole_hessian) continue;
         const Eigen::VectorXd Hu =
             test::fd_jacobian5([&](const Eigen::VectorXd& t) { return gradient(along(t[0])); },
                                Eigen::VectorXd::Zero(1), eps);
