@@ -102,7 +102,7 @@ std::vector<BodyPair> BodyContactForm::candidates(const Eigen::VectorXd& q0,
                                                   const Eigen::VectorXd& q1,
                                                   double inflation) const {
   const contact::Positions V0 = surface_positions(q0);
-  const contact::Positions V1 = &q0 == &q1 ? V0 : surface_positions(q1);
+  const contact::Positions V1 = &q0 == &q1 ? V0 : surface_positions(q1);  // static: one copy
   std::vector<BodyPair> out;
   for (const contact::VertexTriangleCandidate& c :
        contact::vertex_triangle_candidates(V0, V1, local_F_, inflation, local_groups_)) {
