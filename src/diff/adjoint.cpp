@@ -97,7 +97,9 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
       E.solution_changed(x);
       const double f0 = factorizer.factorization_seconds();
       const int fb0 = factorizer.num_ldlt_fallbacks();
-      factorizer.factorize(E.hessian(x, HessianKind::kExact), sim.hessian_pattern().pattern_version());
+      // Assembled before the pattern version is read: the pattern follows the contact pairs.
+      const Eigen::SparseMatrix<double>& H = E.hessian(x, HessianKind::kExact);
+      factorizer.factorize(H, sim.hessian_pattern().pattern_version());
       result.stats.factorization_seconds += factorizer.factorization_seconds() - f0;
       result.stats.ldlt_fallbacks += factorizer.num_ldlt_fallbacks() - fb0;
       ++result.stats.rebuilt_factorizations;

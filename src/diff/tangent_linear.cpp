@@ -140,7 +140,9 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
     IncrementalPotential& E = sim.potential();
     E.solution_changed(x);
     const int fb0 = factorizer.num_ldlt_fallbacks();
-    factorizer.factorize(E.hessian(x, HessianKind::kExact), sim.hessian_pattern().pattern_version());
+    // Assembled before the pattern version is read: the pattern follows the contact pairs.
+    const Eigen::SparseMatrix<double>& H = E.hessian(x, HessianKind::kExact);
+    factorizer.factorize(H, sim.hessian_pattern().pattern_version());
     result.stats.ldlt_fallbacks += factorizer.num_ldlt_fallbacks() - fb0;
     ++result.stats.factorizations;
 

@@ -1,39 +1,25 @@
 #include "rbaa/sim/mesh_obstacle_form.hpp"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
-#include <sstream>
+#include <tuple>
 
 #include "rbaa/contact/additive_ccd.hpp"
-#include "rbaa/contact/edge_edge.hpp"
-#include "rbaa/contact/edge_edge_mollifier.hpp"
-#include "rbaa/contact/point_triangle.hpp"
-#include "rbaa/error.hpp"
+#include "rbaa/contact/solid_angle.hpp"
 #include "rbaa/mesh/topology.hpp"
+#include "rbaa/sim/contact_pair.hpp"
 
 namespace rbaa {
 namespace {
 
-using contact::Matrix12d;
-using contact::Vector12d;
-
-// A pair's four points in the order the distance functions take them (point, triangle) or
-// (edge a, edge b), with the body vertex behind each (-1: an obstacle point, fixed).
-struct PairPoints {
-  Eigen::Vector3d x[4];
-  int vertex[4] = {-1, -1, -1, -1};
-  bool edge_edge = false;
-  double eps_x = 0;  // mollifier threshold (edge-edge only)
-};
-
 Eigen::Vector3d at(const Eigen::VectorXd& q, int v) { return q.segment<3>(3 * v); }
 Eigen::Vector3d row(const contact::Positions& V, int v) { return V.row(v).transpose(); }
 
-PairPoints pair_points(const MeshObstacleForm& f, const ObstaclePair& p, const Eigen::VectorXd& q) {
-  PairPoints P;
+ContactPairPoints pair_points(const MeshObstacleForm& f, const ObstaclePair& p,
+                              const Eigen::VectorXd& q) {
+  ContactPairPoints P;
   const contact::StaticMeshBroadPhase& o = f.obstacles();
   switch (p.kind) {
     case ObstaclePairKind::kVertexTriangle:
@@ -62,72 +48,6 @@ PairPoints pair_points(const MeshObstacleForm& f, const ObstaclePair& p, const E
     }
   }
   return P;
-}
-
-double squared_distance(const PairPoints& P) {
-  return P.edge_edge ? contact::edge_edge_distance(P.x[0], P.x[1], P.x[2], P.x[3])
-                     : contact::point_triangle_distance(P.x[0], P.x[1], P.x[2], P.x[3]);
-}
-
-double mollifier(const PairPoints& P) {
-  return P.edge_edge ? contact::edge_edge_mollifier(P.x[0], P.x[1], P.x[2], P.x[3], P.eps_x) : 1.0;
-}
-
-// phi = m f(s), f(s) = b(sqrt(s)), with gradient and Hessian over the pair's 12 dofs:
-//   f' = b'(d) / (2 d),  f'' = (b''(d) - b'(d) / d) / (4 d^2),
-//   grad phi = m f' grad s + f grad m,
-//   hess phi = m (f' hess s + f'' grad s grad s^T) + f hess m + f' (grad m grad s^T + grad s grad
-//   m^T).
-void pair_derivatives(const PairPoints& P, const Barrier& b, Vector12d& g, Matrix12d& H) {
-  Vector12d ds;
-  Matrix12d d2s;
-  if (P.edge_edge) {
-    const auto type = contact::edge_edge_distance_type(P.x[0], P.x[1], P.x[2], P.x[3]);
-    ds = contact::edge_edge_distance_gradient(P.x[0], P.x[1], P.x[2], P.x[3], type);
-    d2s = contact::edge_edge_distance_hessian(P.x[0], P.x[1], P.x[2], P.x[3], type);
-  } else {
-    const auto type = contact::point_triangle_distance_type(P.x[0], P.x[1], P.x[2], P.x[3]);
-    ds = contact::point_triangle_distance_gradient(P.x[0], P.x[1], P.x[2], P.x[3], type);
-    d2s = contact::point_triangle_distance_hessian(P.x[0], P.x[1], P.x[2], P.x[3], type);
-  }
-  const double s = squared_distance(P);
-  const double d = std::sqrt(s);
-  const double b1 = b.first_derivative(d);
-  const double f = b.value(d);
-  const double f1 = b1 / (2.0 * d);
-  const double f2 = (b.second_derivative(d) - b1 / d) / (4.0 * s);
-  g = f1 * ds;
-  H = f1 * d2s + f2 * ds * ds.transpose();
-  if (P.edge_edge) {
-    const double m = mollifier(P);
-    if (m < 1.0) {
-      const Vector12d dm =
-          contact::edge_edge_mollifier_gradient(P.x[0], P.x[1], P.x[2], P.x[3], P.eps_x);
-      const Matrix12d d2m =
-          contact::edge_edge_mollifier_hessian(P.x[0], P.x[1], P.x[2], P.x[3], P.eps_x);
-      H = m * H + f * d2m + f1 * (dm * ds.transpose() + ds * dm.transpose());
-      g = m * g + f * dm;
-    }
-  }
-}
-
-// Body points of a pair: local point indices with a body vertex.
-int body_points(const PairPoints& P, int local[4]) {
-  int n = 0;
-  for (int i = 0; i < 4; ++i) {
-    if (P.vertex[i] >= 0) local[n++] = i;
-  }
-  return n;
-}
-
-// Solid angle of triangle (a, b, c) seen from p (Van Oosterom and Strackee).
-double solid_angle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                   const Eigen::Vector3d& c) {
-  const Eigen::Vector3d u = a - p, v = b - p, w = c - p;
-  const double lu = u.norm(), lv = v.norm(), lw = w.norm();
-  const double num = u.dot(v.cross(w));
-  const double den = lu * lv * lw + u.dot(v) * lw + v.dot(w) * lu + w.dot(u) * lv;
-  return 2.0 * std::atan2(num, den);
 }
 
 }  // namespace
@@ -182,7 +102,7 @@ std::vector<ObstaclePair> MeshObstacleForm::build(const Eigen::VectorXd& q) cons
   auto narrow = [&](ObstaclePairKind kind, const std::vector<std::pair<int, int>>& list) {
     for (const auto& [body, obstacle] : list) {
       ObstaclePair p{kind, body, obstacle, 0.0};
-      p.squared_distance = squared_distance(pair_points(*this, p, q));
+      p.squared_distance = pair_squared_distance(pair_points(*this, p, q));
       if (p.squared_distance < s_hat) pairs.push_back(p);
     }
   };
@@ -208,8 +128,7 @@ const std::vector<ObstaclePair>& MeshObstacleForm::active(const Eigen::VectorXd&
 double MeshObstacleForm::value(const Eigen::VectorXd& q) const {
   double sum = 0;
   for (const ObstaclePair& p : active(q)) {
-    const PairPoints P = pair_points(*this, p, q);
-    sum += mollifier(P) * barrier_.value(std::sqrt(p.squared_distance));
+    sum += pair_mollifier(pair_points(*this, p, q)) * barrier_.value(std::sqrt(p.squared_distance));
   }
   return kappa_ * sum;
 }
@@ -232,62 +151,34 @@ double MeshObstacleForm::value_difference(const Eigen::VectorXd& q0,
       all.end());
   double sum = 0;
   for (const ObstaclePair& p : all) {
-    const PairPoints P0 = pair_points(*this, p, q0), P1 = pair_points(*this, p, q1);
-    const double d0 = std::sqrt(squared_distance(P0)), d1 = std::sqrt(squared_distance(P1));
-    if (!(d1 > 0)) return std::numeric_limits<double>::infinity();
-    const double db = barrier_.difference(d0, d1 - d0);
-    const double m0 = mollifier(P0), m1 = mollifier(P1);
-    sum += m1 * db + (m1 != m0 ? (m1 - m0) * barrier_.value(d0) : 0.0);
+    const double term =
+        pair_value_difference(pair_points(*this, p, q0), pair_points(*this, p, q1), barrier_);
+    if (term == std::numeric_limits<double>::infinity()) return term;
+    sum += term;
   }
   return kappa_ * sum;
 }
 
 void MeshObstacleForm::add_gradient(const Eigen::VectorXd& q, double scale,
                                     Eigen::VectorXd& grad) const {
-  Vector12d g;
-  Matrix12d H;
+  contact::Vector12d g;
+  contact::Matrix12d H;
   for (const ObstaclePair& p : active(q)) {
-    const PairPoints P = pair_points(*this, p, q);
+    const ContactPairPoints P = pair_points(*this, p, q);
     pair_derivatives(P, barrier_, g, H);
-    for (int i = 0; i < 4; ++i) {
-      if (P.vertex[i] >= 0)
-        grad.segment<3>(3 * P.vertex[i]) += (scale * kappa_) * g.segment<3>(3 * i);
-    }
+    add_pair_gradient(P, g, scale * kappa_, grad);
   }
 }
 
 void MeshObstacleForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKind kind,
                                    SparseHessian& hessian) const {
-  Vector12d g;
-  Matrix12d H;
+  contact::Vector12d g;
+  contact::Matrix12d H;
   bool projected = false;
   for (const ObstaclePair& p : active(q)) {
-    const PairPoints P = pair_points(*this, p, q);
+    const ContactPairPoints P = pair_points(*this, p, q);
     pair_derivatives(P, barrier_, g, H);
-    int local[4];
-    const int n = body_points(P, local);
-    Eigen::MatrixXd B(3 * n, 3 * n);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j)
-        B.block<3, 3>(3 * i, 3 * j) = H.block<3, 3>(3 * local[i], 3 * local[j]);
-    }
-    if (kind == HessianKind::kProjected) {
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(B);
-      const Eigen::VectorXd& lambda = eig.eigenvalues();
-      const double largest = lambda.cwiseAbs().maxCoeff();
-      if (lambda.minCoeff() < -1e-12 * largest) {
-        B = eig.eigenvectors() * lambda.cwiseMax(0.0).asDiagonal() * eig.eigenvectors().transpose();
-        projected = true;
-      }
-    }
-    B *= scale * kappa_;
-    for (int i = 0; i < n; ++i) {
-      hessian.vertex_block(P.vertex[local[i]]) += B.block<3, 3>(3 * i, 3 * i);
-      for (int j = i + 1; j < n; ++j) {
-        hessian.add_vertex_pair_block(P.vertex[local[i]], P.vertex[local[j]],
-                                      B.block<3, 3>(3 * i, 3 * j));
-      }
-    }
+    projected |= add_pair_hessian(P, H, scale * kappa_, kind, hessian);
   }
   if (projected) hessian.mark_projection_active();
 }
@@ -304,24 +195,26 @@ double MeshObstacleForm::ccd(const Eigen::VectorXd& q0, const Eigen::VectorXd& q
       broad_.query(V0, V1, body_vertices_, body_F_, body_E_, inflation);
   double t = 1.0;
   for (const auto& [body, obstacle] : c.vertex_triangle) {
-    const PairPoints P0 =
+    const ContactPairPoints P0 =
         pair_points(*this, {ObstaclePairKind::kVertexTriangle, body, obstacle, 0}, q0);
     const Eigen::Vector3d p1 = at(q1, body);
     t = std::min(t, contact::point_triangle_max_step_size(P0.x[0], P0.x[1], P0.x[2], P0.x[3], p1,
                                                           P0.x[1], P0.x[2], P0.x[3], settings));
   }
   for (const auto& [body, obstacle] : c.triangle_vertex) {
-    const PairPoints P0 =
+    const ContactPairPoints P0 =
         pair_points(*this, {ObstaclePairKind::kTriangleVertex, body, obstacle, 0}, q0);
-    const PairPoints P1 =
+    const ContactPairPoints P1 =
         pair_points(*this, {ObstaclePairKind::kTriangleVertex, body, obstacle, 0}, q1);
     t = std::min(t,
                  contact::point_triangle_max_step_size(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0],
                                                        P1.x[1], P1.x[2], P1.x[3], settings));
   }
   for (const auto& [body, obstacle] : c.edge_edge) {
-    const PairPoints P0 = pair_points(*this, {ObstaclePairKind::kEdgeEdge, body, obstacle, 0}, q0);
-    const PairPoints P1 = pair_points(*this, {ObstaclePairKind::kEdgeEdge, body, obstacle, 0}, q1);
+    const ContactPairPoints P0 =
+        pair_points(*this, {ObstaclePairKind::kEdgeEdge, body, obstacle, 0}, q0);
+    const ContactPairPoints P1 =
+        pair_points(*this, {ObstaclePairKind::kEdgeEdge, body, obstacle, 0}, q1);
     t = std::min(t, contact::edge_edge_max_step_size(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0],
                                                      P1.x[1], P1.x[2], P1.x[3], settings));
   }
@@ -358,7 +251,7 @@ ObstacleClearance MeshObstacleForm::clearance(const Eigen::VectorXd& q, double w
   auto consider = [&](ObstaclePairKind kind, const std::vector<std::pair<int, int>>& list) {
     for (const auto& [body, obstacle] : list) {
       const ObstaclePair p{kind, body, obstacle, 0};
-      const double d = std::sqrt(squared_distance(pair_points(*this, p, q)));
+      const double d = std::sqrt(pair_squared_distance(pair_points(*this, p, q)));
       if (d < r.distance) {
         r.distance = d;
         const int ov = kind == ObstaclePairKind::kVertexTriangle   ? broad_.F()(obstacle, 0)
@@ -406,11 +299,7 @@ ObstacleClearance MeshObstacleForm::clearance(const Eigen::VectorXd& q, double w
   for (std::size_t m = 0; m < mesh_names_.size(); ++m) {
     while (first < mesh_of_vertex_.size() && mesh_of_vertex_[first] < static_cast<int>(m)) ++first;
     if (first >= mesh_of_vertex_.size()) break;
-    const Eigen::Vector3d p = row(OV, static_cast<int>(first));
-    double omega = 0;
-    for (Eigen::Index f = 0; f < body_F_.rows(); ++f) {
-      omega += solid_angle(p, at(q, body_F_(f, 0)), at(q, body_F_(f, 1)), at(q, body_F_(f, 2)));
-    }
+    const double omega = contact::surface_solid_angle(row(OV, static_cast<int>(first)), V, body_F_);
     if (std::abs(omega) > 2.0 * M_PI) {
       r.intersecting = true;
       r.mesh = static_cast<int>(m);

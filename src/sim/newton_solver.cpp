@@ -39,7 +39,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
                                     const std::string& context) {
   const double h = settings_.time_step;
   const double tol = settings_.velocity_tolerance;
-  const std::uint64_t pattern = E.hessian_pattern().pattern_version();
   NewtonResult result;
   E.solution_changed(x);
   double last_velocity = std::numeric_limits<double>::infinity();
@@ -78,7 +77,8 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     const Eigen::SparseMatrix<double>* H = &E.hessian(x, kind);
     H_last = H;
     lap(t0, result.assembly_seconds);
-    bool ok = solver_.factorize(*H, pattern);
+    // Read after assembling: contact between bodies changes the pattern with the active pairs.
+    bool ok = solver_.factorize(*H, E.hessian_pattern().pattern_version());
     lap(t0, result.factorization_seconds);
     if (!ok && kind == HessianKind::kExact) {
       ++result.projected_fallbacks;
@@ -86,7 +86,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
       H = &E.hessian(x, kind);
       H_last = H;
       lap(t0, result.assembly_seconds);
-      ok = solver_.factorize(*H, pattern);
+      ok = solver_.factorize(*H, E.hessian_pattern().pattern_version());
       lap(t0, result.factorization_seconds);
     }
     if (!ok) {

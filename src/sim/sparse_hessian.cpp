@@ -5,6 +5,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "rbaa/sim/parallel.hpp"
 
@@ -48,8 +49,10 @@ SparseHessian::SparseHessian(const Tets& tets, int num_vertices)
   const int nnz = static_cast<int>(inner.size());
   std::vector<double> zeros(nnz, 0.0);
   matrix_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, nnz, outer.data(), inner.data(),
-                                                           zeros.data());
+                                                          zeros.data());
   matrix_.makeCompressed();
+  base_position_.resize(nnz);
+  for (int k = 0; k < nnz; ++k) base_position_[k] = k;
 
   auto entry = [&](int row, int col) {
     const int* begin = inner.data() + outer[col];
@@ -89,6 +92,62 @@ SparseHessian::SparseHessian(const Tets& tets, int num_vertices)
   vertex_values_.assign(num_vertices, Eigen::Matrix3d::Zero());
   vertex_touched_.assign(num_vertices, 0);
   direct_ = Eigen::VectorXd::Zero(nnz);
+  base_outer_ = std::move(outer);
+  base_inner_ = std::move(inner);
+}
+
+int SparseHessian::base_entry(int row, int col) const {
+  const int* begin = base_inner_.data() + base_outer_[col];
+  const int* end = base_inner_.data() + base_outer_[col + 1];
+  const int* at = std::lower_bound(begin, end, row);
+  return at != end && *at == row ? static_cast<int>(at - base_inner_.data()) : -1;
+}
+
+void SparseHessian::rebuild_pattern() {
+  pattern_version_ = next_pattern_version++;
+  extra_pairs_.clear();
+  for (const auto& [key, block] : extra_) extra_pairs_.push_back(key);
+  // Extra row vertices per column vertex; extra_pairs_ is sorted by row, so sort by column.
+  std::vector<std::pair<int, int>> by_column;  // (column vertex, index in extra_pairs_)
+  for (std::size_t i = 0; i < extra_pairs_.size(); ++i)
+    by_column.emplace_back(extra_pairs_[i].second, static_cast<int>(i));
+  std::sort(by_column.begin(), by_column.end(), [&](const auto& x, const auto& y) {
+    return x.first != y.first ? x.first < y.first
+                              : extra_pairs_[x.second].first < extra_pairs_[y.second].first;
+  });
+  // Merge each column's base rows with its extra blocks' rows: no extra block lies in the base.
+  const int n = rows();
+  const int base_nnz = static_cast<int>(base_inner_.size());
+  const int nnz = base_nnz + 9 * static_cast<int>(extra_pairs_.size());
+  std::vector<int> outer(n + 1, 0), inner;
+  inner.reserve(nnz);
+  extra_position_.assign(3 * extra_pairs_.size(), 0);
+  std::size_t next = 0;  // into by_column
+  for (int c = 0; c < num_vertices_; ++c) {
+    const std::size_t first = next;
+    while (next < by_column.size() && by_column[next].first == c) ++next;
+    for (int j = 0; j < 3; ++j) {
+      const int col = 3 * c + j;
+      int k = base_outer_[col];
+      std::size_t x = first;
+      while (k < base_outer_[col + 1] || x < next) {
+        const int extra_row = x < next ? 3 * extra_pairs_[by_column[x].second].first : n;
+        if (k < base_outer_[col + 1] && base_inner_[k] < extra_row) {
+          base_position_[k] = static_cast<int>(inner.size());
+          inner.push_back(base_inner_[k++]);
+        } else {
+          extra_position_[3 * by_column[x].second + j] = static_cast<int>(inner.size());
+          for (int i = 0; i < 3; ++i) inner.push_back(extra_row + i);
+          ++x;
+        }
+      }
+      outer[col + 1] = static_cast<int>(inner.size());
+    }
+  }
+  std::vector<double> zeros(nnz, 0.0);
+  matrix_ = Eigen::Map<const Eigen::SparseMatrix<double>>(n, n, nnz, outer.data(), inner.data(),
+                                                          zeros.data());
+  matrix_.makeCompressed();
 }
 
 void SparseHessian::set_zero() {
@@ -103,6 +162,7 @@ void SparseHessian::set_zero() {
   touched_vertices_.clear();
   if (direct_used_) direct_.setZero();
   direct_used_ = false;
+  extra_.clear();
   projection_active_ = false;
 }
 
@@ -122,38 +182,69 @@ void SparseHessian::add_vertex_pair_block(int a, int b, const Eigen::Matrix3d& B
   // Stored: the lower triangle, i.e. the block with the larger vertex as row.
   const int r = std::max(a, b), c = std::min(a, b);
   const Eigen::Matrix3d L = a > b ? B : Eigen::Matrix3d(B.transpose());
-  const int* inner = matrix_.innerIndexPtr();
-  const int* outer = matrix_.outerIndexPtr();
+  const int k0 = base_entry(3 * r, 3 * c);
+  if (k0 < 0) {
+    auto [at, inserted] = extra_.try_emplace({r, c}, L);
+    if (!inserted) at->second += L;
+    return;
+  }
   for (int j = 0; j < 3; ++j) {
-    const int col = 3 * c + j;
-    const int* begin = inner + outer[col];
-    const int* end = inner + outer[col + 1];
-    const int* at = std::lower_bound(begin, end, 3 * r);
-    if (at == end || *at != 3 * r) {
-      throw std::logic_error("SparseHessian: vertices " + std::to_string(a) + " and " +
-                             std::to_string(b) + " share no tet");
-    }
-    const std::ptrdiff_t k = at - inner;
+    const int k = base_entry(3 * r, 3 * c + j);
     for (int i = 0; i < 3; ++i) direct_[k + i] += L(i, j);  // rows 3r, 3r+1, 3r+2 are adjacent
   }
   direct_used_ = true;
 }
 
 void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& A) {
-  direct_ += scale * Eigen::Map<const Eigen::VectorXd>(A.valuePtr(), A.nonZeros());
+  if (A.rows() != rows() || A.cols() != rows() || !A.isCompressed()) {
+    throw std::logic_error("SparseHessian: add_matrix needs a compressed " +
+                           std::to_string(rows()) + "-square matrix");
+  }
+  const bool base = A.nonZeros() == static_cast<Eigen::Index>(base_inner_.size()) &&
+                    std::equal(base_outer_.begin(), base_outer_.end(), A.outerIndexPtr()) &&
+                    std::equal(base_inner_.begin(), base_inner_.end(), A.innerIndexPtr());
+  if (base) {
+    direct_ += scale * Eigen::Map<const Eigen::VectorXd>(A.valuePtr(), A.nonZeros());
+  } else {
+    for (int col = 0; col < A.cols(); ++col) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it) {
+        const int row = static_cast<int>(it.row());
+        if (row < col) continue;  // the upper triangle is not read
+        const int k = base_entry(row, col);
+        if (k >= 0) {
+          direct_[k] += scale * it.value();
+        } else {
+          auto [at, inserted] = extra_.try_emplace({row / 3, col / 3}, Eigen::Matrix3d::Zero());
+          at->second(row % 3, col % 3) += scale * it.value();
+        }
+      }
+    }
+  }
   direct_used_ = true;
 }
 
 const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
-  const int nnz = static_cast<int>(matrix_.nonZeros());
+  bool same = extra_.size() == extra_pairs_.size();
+  if (same) {
+    std::size_t i = 0;
+    for (const auto& [key, block] : extra_) {
+      if (key != extra_pairs_[i++]) {
+        same = false;
+        break;
+      }
+    }
+  }
+  if (!same) rebuild_pattern();
+  const int nnz = static_cast<int>(base_inner_.size());
   double* values = matrix_.valuePtr();
   const double* elem = element_values_.data();
   const double* direct = direct_.data();
+  const int* position = base_position_.data();
 #pragma omp parallel for schedule(static) if (nnz > kParallelEntries)
   for (int k = 0; k < nnz; ++k) {
     double sum = direct[k];
     for (int s = source_start_[k]; s < source_start_[k + 1]; ++s) sum += elem[sources_[s]];
-    values[k] = sum;
+    values[position[k]] = sum;
   }
   std::vector<int> sorted = touched_vertices_;
   std::sort(sorted.begin(), sorted.end());
@@ -161,8 +252,16 @@ const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
     const Eigen::Matrix3d& B = vertex_values_[v];
     int p = 0;
     for (int j = 0; j < 3; ++j) {
-      for (int i = j; i < 3; ++i) values[diagonal_entries_[6 * v + p++]] += B(i, j);
+      for (int i = j; i < 3; ++i) values[position[diagonal_entries_[6 * v + p++]]] += B(i, j);
     }
+  }
+  // Every extra entry belongs to one block of extra_ (the pattern was just made to match it).
+  std::size_t x = 0;
+  for (const auto& [key, L] : extra_) {
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < 3; ++i) values[extra_position_[3 * x + j] + i] = L(i, j);
+    }
+    ++x;
   }
   return matrix_;
 }

@@ -35,6 +35,41 @@ inline Eigen::MatrixXd fd_jacobian(
   return J;
 }
 
+/// Five-point (fourth-order) central-difference gradient: truncation (eps / l)^4 for features of
+/// size l, so that eps can stay well above round-off where l is small (contact at 1e-9 m).
+inline Eigen::VectorXd fd_gradient5(const std::function<double(const Eigen::VectorXd&)>& f,
+                                    const Eigen::VectorXd& x, double eps) {
+  Eigen::VectorXd g(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    auto at = [&](double h) {
+      Eigen::VectorXd y = x;
+      y[i] += h;
+      return f(y);
+    };
+    g[i] = (8 * (at(eps) - at(-eps)) - (at(2 * eps) - at(-2 * eps))) / (12 * eps);
+  }
+  return g;
+}
+
+/// Five-point (fourth-order) central-difference Jacobian of a vector function.
+inline Eigen::MatrixXd fd_jacobian5(
+    const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& g, const Eigen::VectorXd& x,
+    double eps) {
+  Eigen::MatrixXd J;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    auto at = [&](double h) {
+      Eigen::VectorXd y = x;
+      y[i] += h;
+      return g(y);
+    };
+    const Eigen::VectorXd col =
+        (8 * (at(eps) - at(-eps)) - (at(2 * eps) - at(-2 * eps))) / (12 * eps);
+    if (J.size() == 0) J.resize(col.size(), x.size());
+    J.col(i) = col;
+  }
+  return J;
+}
+
 /// |a - b| / |b| (Frobenius).
 inline double relative_error(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).norm() / b.norm();

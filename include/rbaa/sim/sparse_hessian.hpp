@@ -1,20 +1,23 @@
 #pragma once
-// The simulator's 3#V x 3#V sparse symmetric matrices (Hessians, the mass matrix) in one fixed
-// pattern: a 3x3 block for every pair of vertices sharing a tet, lower triangle only (CHOLMOD reads
-// the lower triangle). Forms write per-element 12x12 blocks and per-vertex 3x3 blocks into
-// buffers from parallel loops; assemble() then sums every nonzero's contributions in a fixed
-// order (by element, then by vertex), so the result does not depend on the thread count and no
-// triplet list is sorted per Newton iteration.
+// The simulator's 3#V x 3#V sparse symmetric matrices (Hessians, the mass matrix), lower triangle
+// only (CHOLMOD reads the lower triangle). The base pattern, fixed for a mesh, has a 3x3 block for
+// every pair of vertices sharing a tet. Forms write per-element 12x12 blocks and per-vertex 3x3
+// blocks into buffers from parallel loops; assemble() then sums every nonzero's contributions in
+// a fixed order (by element, then by vertex), so the result does not depend on the thread count
+// and no triplet list is sorted per Newton iteration.
 //
-// Contact pairs against analytic planes only touch a vertex's diagonal block, which the pattern
-// always holds. Pairs that couple distinct vertices (vertex-triangle and edge-edge between bodies)
-// will extend the pattern with extra blocks; pattern_version() then changes and the linear
-// solver redoes its symbolic analysis.
+// Contact between bodies couples vertices that share no tet. Such blocks (add_vertex_pair_block
+// or add_matrix outside the base pattern) are kept apart, keyed by vertex pair, and assemble()
+// returns the base pattern plus one 3x3 block per such pair. The extra pairs change only when
+// the active contact pairs do, so the merged pattern is rebuilt (and pattern_version() changes,
+// which makes the linear solvers redo their symbolic analysis) only when the set of extra pairs
+// differs from the previous assemble's; otherwise only the values are written.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
-
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "rbaa/mesh/tet_mesh.hpp"
@@ -33,21 +36,24 @@ class SparseHessian {
   int rows() const { return 3 * num_vertices_; }
   int num_elements() const { return num_elements_; }
   int num_vertices() const { return num_vertices_; }
-  /// Changes whenever the pattern does (never, for vertex-plane contact).
+  /// Identifies the pattern of the last assemble() (unique over all SparseHessians); changes
+  /// whenever assemble() changes the set of extra blocks (never without body-body contact).
   std::uint64_t pattern_version() const { return pattern_version_; }
 
-  /// Clears every buffer (element blocks, vertex blocks, direct values).
+  /// Clears every buffer (element blocks, vertex blocks, direct values, extra blocks). The pattern
+  /// of matrix() stays until the next assemble().
   void set_zero();
   /// Element e's packed 12x12 lower block; callers add to it.
   double* element_block(int e) { return element_values_.data() + std::size_t(e) * kPacked; }
   /// Vertex v's 3x3 diagonal block (full; its lower triangle is used); callers add to it. Not
   /// thread-safe across calls for different vertices (contact forms touch few vertices).
   Eigen::Matrix3d& vertex_block(int v);
-  /// Adds B to the block (row vertex a, column vertex b) and B^T to (b, a), for a != b sharing a
-  /// tet (a body's surface edge or triangle always does); a == b adds (B + B^T) / 2 to the
-  /// diagonal block. Throws std::logic_error for a pair outside the pattern. Not thread-safe.
+  /// Adds B to the block (row vertex a, column vertex b) and B^T to (b, a) for a != b (an extra
+  /// block when a and b share no tet); a == b adds (B + B^T) / 2 to the diagonal block. Not
+  /// thread-safe.
   void add_vertex_pair_block(int a, int b, const Eigen::Matrix3d& B);
-  /// Adds scale * A, A a matrix in this pattern (e.g. from zero_matrix() or a previous assemble).
+  /// Adds scale * A, A a 3#V x 3#V lower triangle (e.g. the mass matrix, zero_matrix() or a
+  /// previous assemble); its entries outside the base pattern become extra blocks.
   void add_matrix(double scale, const Eigen::SparseMatrix<double>& A);
 
   /// Forms call this when their PSD projection changed their exact Hessian by more than round-off
@@ -55,27 +61,41 @@ class SparseHessian {
   void mark_projection_active() { projection_active_ = true; }
   bool projection_active() const { return projection_active_; }
 
-  /// Sums the buffers into the matrix (lower triangle, compressed column) and returns it.
+  /// Sums the buffers into the matrix (lower triangle, compressed column: the base pattern plus
+  /// the extra blocks added since set_zero()) and returns it.
   const Eigen::SparseMatrix<double>& assemble();
   /// The last assembled matrix.
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
-  /// A matrix with this pattern and zero values.
+  /// A matrix with the last assemble's pattern and zero values.
   Eigen::SparseMatrix<double> zero_matrix() const;
+  /// Vertex pairs (row > column) of the extra blocks in the last assemble's pattern, ascending.
+  const std::vector<std::pair<int, int>>& extra_pairs() const { return extra_pairs_; }
 
  private:
+  // Index of entry (row, col) in the base pattern, or -1.
+  int base_entry(int row, int col) const;
+  // Rebuilds matrix_'s pattern as the base one plus the blocks of extra_ (a new pattern_version).
+  void rebuild_pattern();
+
   int num_elements_ = 0;
   int num_vertices_ = 0;
   std::uint64_t pattern_version_ = 0;
-  Eigen::SparseMatrix<double> matrix_;  // pattern + last assembled values
-  std::vector<int> source_start_;       // nnz -> range in sources_
+  std::vector<int> base_outer_, base_inner_;      // the base pattern (compressed column)
+  Eigen::SparseMatrix<double> matrix_;            // last assembled pattern + values
+  std::vector<int> base_position_;                // base nnz -> nnz of matrix_
+  std::vector<std::pair<int, int>> extra_pairs_;  // extra blocks of matrix_'s pattern
+  std::vector<int> extra_position_;     // 3 per extra pair: nnz of its block's column j, row 0
+  std::vector<int> source_start_;       // base nnz -> range in sources_
   std::vector<int> sources_;            // flat indices into element_values_
-  std::vector<int> diagonal_entries_;   // 6 per vertex: nnz of its diagonal block's lower triangle
+  std::vector<int> diagonal_entries_;   // 6 per vertex: base nnz of its diagonal block's lower part
   std::vector<double> element_values_;  // #T * kPacked
   std::vector<Eigen::Matrix3d> vertex_values_;
   std::vector<char> vertex_touched_;
   std::vector<int> touched_vertices_;
-  Eigen::VectorXd direct_;  // nnz values added through add_matrix
+  Eigen::VectorXd direct_;  // base nnz values added through add_matrix / add_vertex_pair_block
   bool direct_used_ = false;
+  // Blocks between vertices sharing no tet, keyed (row vertex, column vertex), row > column.
+  std::map<std::pair<int, int>, Eigen::Matrix3d> extra_;
   bool projection_active_ = false;
 };
 
