@@ -126,7 +126,8 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
 RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
                                              const RigidShape& shape, const Scene& scene,
                                              RigidSettings settings, double duration, int plane,
-                                             double target, double tolerance) {
+                                             double target, double tolerance,
+                                             const std::vector<RigidBody>& further) {
   RestitutionCalibration c;
   c.plane = plane;
   c.deformable_rebound = target;
@@ -135,7 +136,7 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
   auto rebound = [&](double e) {
     settings.plane_restitution[plane] = e;
     ++c.iterations;
-    return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration),
+    return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration, further),
                                scene.planes[plane], g_step);
   };
   // Secant on f(e) = rebound(e) - target, starting from e = target (exact for a sphere).
@@ -174,7 +175,8 @@ struct BaselineAtStep {
 
 BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const MaterialField& materials,
                             const SimulationOptions& sim_options, const RigidMassProperties& mass,
-                            const RigidShape& shape, RigidSettings rigid, double calibration_tolerance) {
+                            const RigidShape& shape, const std::vector<RigidBody>& further,
+                            RigidSettings rigid, double calibration_tolerance) {
   BaselineAtStep out;
   const auto start = std::chrono::steady_clock::now();
   const SimulationRun baseline = run_simulation(scene, mesh, materials, sim_options);
@@ -205,7 +207,7 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
       }
       if (seen) continue;
       RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration,
-                                                       plane, rebound, calibration_tolerance);
+                                                       plane, rebound, calibration_tolerance, further);
       c.time = b.first_step * scene.time_step;
       rigid.plane_restitution[plane] = c.restitution;
       out.calibrations.push_back(c);
@@ -214,7 +216,7 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   out.rigid = rigid;
 
   const auto rigid_start = std::chrono::steady_clock::now();
-  const auto rigid_states = simulate_rigid(mass, shape, scene, rigid, scene.duration);
+  const auto rigid_states = simulate_rigid(mass, shape, scene, rigid, scene.duration, further);
   out.rigid_reference = trace_from_rigid("rigid reference", rigid_states, seconds_since(rigid_start));
   const RunComparison gap = compare_runs(out.baseline, out.rigid_reference);
   out.trial.time_step = scene.time_step;
@@ -275,6 +277,12 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   if (ref_shape.kind == RigidShapeKind::kConvexHull) {
     ev.rigid_shape += " (exact against planes: a plane first touches a body at a hull vertex)";
   }
+  // The scene's further bodies move in the twins as in the deformable runs (which stack them after
+  // the object); the comparison is of the object alone.
+  const SceneWorld world = make_world(scene_in, reference_mesh);
+  const std::vector<RigidBody> further = rigid_bodies(
+      world.mesh, std::vector<Body>(world.bodies.begin() + 1, world.bodies.end()),
+      world.materials(reference_materials).effective_density());
 
   // Deformable runs with the reference scene's frozen kappa. The baseline decides the step: the
   // comparison means something only where the stiff uniform object and its calibrated rigid twin
@@ -290,7 +298,7 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
       *options.progress << "rbaa evaluate: baseline at step " << scene.time_step << " s ..." << std::flush;
     }
     chosen = run_baseline(scene, reference_mesh, reference_materials, sim_options, ref_mass, ref_shape,
-                          options.rigid, options.calibration_tolerance);
+                          further, options.rigid, options.calibration_tolerance);
     ev.step_search.push_back(chosen.trial);
     if (search && options.progress) {
       *options.progress << " strays " << 100 * chosen.trial.disagreement << " % of its path from the rigid reference\n";
@@ -316,7 +324,7 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
     ev.soft_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_soft);
   }
   const auto start = std::chrono::steady_clock::now();
-  const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration);
+  const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration, further);
   ev.rigid_adversarial = trace_from_rigid("rigid adversarial", rigid_adv, seconds_since(start));
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);

@@ -1,14 +1,14 @@
 #include "rbaa/rigid/rigid_body.hpp"
 
-#include <Eigen/Dense>
-
 #include <LinearMath/btConvexHullComputer.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
-
 #include <sstream>
+#include <string>
 
+#include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
 
 namespace rbaa {
@@ -49,8 +49,10 @@ RigidMassProperties rigid_mass_properties(const Moments& moments, double degener
     const Eigen::Vector3d e = Eigen::Vector3d::Unit(m);
     const Eigen::Vector3d u = (e - e.dot(axis) * axis).normalized();
     const Eigen::Vector3d w = axis.cross(u);
-    if (low_pair) A << u, w, axis;
-    else A << axis, u, w;
+    if (low_pair)
+      A << u, w, axis;
+    else
+      A << axis, u, w;
   } else {
     for (int k = 0; k < 3; ++k) A.col(k) = canonical_sign(eig.eigenvectors().col(k));
   }
@@ -93,20 +95,23 @@ Vertices hull_vertices(const TetMesh& mesh) {
     for (int c = 0; c < 3; ++c) coords.push_back(mesh.V(v, c));
   }
   btConvexHullComputer hull;
-  hull.compute(coords.data(), 3 * static_cast<int>(sizeof(double)), static_cast<int>(surface.size()), 0.0, 0.0);
+  hull.compute(coords.data(), 3 * static_cast<int>(sizeof(double)),
+               static_cast<int>(surface.size()), 0.0, 0.0);
   std::vector<std::array<double, 3>> points;
   for (int i = 0; i < hull.vertices.size(); ++i) {
     points.push_back({hull.vertices[i].x(), hull.vertices[i].y(), hull.vertices[i].z()});
   }
   std::sort(points.begin(), points.end());
   Vertices P(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t i = 0; i < points.size(); ++i) P.row(static_cast<Eigen::Index>(i)) << points[i][0], points[i][1], points[i][2];
+  for (size_t i = 0; i < points.size(); ++i)
+    P.row(static_cast<Eigen::Index>(i)) << points[i][0], points[i][1], points[i][2];
   return P;
 }
 
 }  // namespace
 
-RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance, double box_tolerance) {
+RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance,
+                                    double box_tolerance) {
   const Vertices P = hull_vertices(mesh);
   const Eigen::RowVector3d lo = P.colwise().minCoeff(), hi = P.colwise().maxCoeff();
   const double size = (hi - lo).norm();
@@ -122,7 +127,8 @@ RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance
   }
   int corners = 0;
   for (int c = 0; c < 8 && on_faces; ++c) {
-    const Eigen::RowVector3d corner((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]);
+    const Eigen::RowVector3d corner((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1],
+                                    (c & 4) ? hi[2] : lo[2]);
     corners += ((P.rowwise() - corner).rowwise().norm().minCoeff() <= tol);
   }
   if (on_faces && corners == 8) {
@@ -152,6 +158,36 @@ RigidShape rigid_shape_from_surface(const TetMesh& mesh, double sphere_tolerance
   shape.kind = RigidShapeKind::kConvexHull;
   shape.points = P;
   return shape;
+}
+
+std::vector<RigidBody> rigid_bodies(const TetMesh& stacked, const std::vector<Body>& bodies,
+                                    const Eigen::VectorXd& density) {
+  if (density.size() != stacked.num_tets()) {
+    throw InputError("rigid bodies: " + std::to_string(density.size()) + " densities for " +
+                     std::to_string(stacked.num_tets()) + " elements");
+  }
+  std::vector<RigidBody> out;
+  for (const Body& b : bodies) {
+    if (b.vertex_begin < 0 || b.vertex_end > stacked.num_vertices() || b.num_vertices() <= 0 ||
+        b.element_begin < 0 || b.element_end > stacked.num_tets() || b.num_elements() <= 0) {
+      throw InputError("rigid bodies: " + b.name + "'s vertex or element range is not in the mesh");
+    }
+    TetMesh mesh;
+    mesh.V = stacked.V.middleRows(b.vertex_begin, b.num_vertices());
+    mesh.T = stacked.T.middleRows(b.element_begin, b.num_elements()).array() - b.vertex_begin;
+    if (mesh.T.minCoeff() < 0 || mesh.T.maxCoeff() >= mesh.num_vertices()) {
+      throw InputError("rigid bodies: " + b.name + "'s elements use vertices of another body");
+    }
+    RigidBody r;
+    r.name = b.name;
+    r.mass = rigid_mass_properties(
+        compute_moments(mesh, Eigen::VectorXd(density.segment(b.element_begin, b.num_elements()))));
+    r.shape = rigid_shape_from_surface(mesh);
+    r.velocity = b.velocity;
+    r.angular_velocity = b.angular_velocity;
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 }  // namespace rbaa

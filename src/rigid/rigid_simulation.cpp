@@ -16,7 +16,8 @@ btVector3 to_bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()
 Eigen::Vector3d from_bt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
 btMatrix3x3 to_bt(const Eigen::Matrix3d& m) {
-  return btMatrix3x3(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2));
+  return btMatrix3x3(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1),
+                     m(2, 2));
 }
 Eigen::Matrix3d from_bt(const btMatrix3x3& m) {
   Eigen::Matrix3d r;
@@ -33,6 +34,7 @@ struct BulletWorld {
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  std::vector<std::unique_ptr<btTriangleMesh>> triangle_meshes;  // outlive their BVH shapes
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states;
   std::vector<std::unique_ptr<btRigidBody>> bodies;
@@ -57,6 +59,7 @@ std::unique_ptr<btCollisionShape> make_child_shape(const RigidShape& shape, doub
       // btBoxShape keeps its margin inside the given extents.
       auto box = std::make_unique<btBoxShape>(to_bt(shape.half_extents));
       box->setMargin(margin);
+      box->initializePolyhedralFeatures();
       return box;
     }
     case RigidShapeKind::kConvexHull: {
@@ -66,39 +69,121 @@ std::unique_ptr<btCollisionShape> make_child_shape(const RigidShape& shape, doub
       }
       hull->recalcLocalAabb();
       hull->setMargin(margin);
+      hull->initializePolyhedralFeatures();
       return hull;
     }
   }
   throw InputError("unknown rigid shape");
 }
 
+// A static obstacle: Bullet's mass-0 body, which never moves.
+void add_obstacle(BulletWorld& w, std::unique_ptr<btCollisionShape> shape, double restitution,
+                  double friction) {
+  btRigidBody::btRigidBodyConstructionInfo ci(0.0, nullptr, shape.get());
+  auto body = std::make_unique<btRigidBody>(ci);
+  body->setRestitution(restitution);
+  body->setFriction(friction);
+  w.world.addRigidBody(body.get());
+  w.shapes.push_back(std::move(shape));
+  w.bodies.push_back(std::move(body));
+}
+
+std::unique_ptr<btCollisionShape> make_mesh_shape(BulletWorld& w, const ObstacleMesh& mesh) {
+  if (mesh.F.rows() == 0 || mesh.V.rows() == 0) {
+    throw InputError(mesh.name + ": an obstacle mesh needs at least one triangle");
+  }
+  if (mesh.F.minCoeff() < 0 || mesh.F.maxCoeff() >= mesh.V.rows()) {
+    throw InputError(mesh.name + ": a triangle refers to a vertex that does not exist");
+  }
+  // btTriangleMesh copies the vertices (as doubles: BT_USE_DOUBLE_PRECISION) and indices.
+  auto triangles = std::make_unique<btTriangleMesh>();
+  triangles->preallocateVertices(static_cast<int>(mesh.V.rows()));
+  triangles->preallocateIndices(static_cast<int>(3 * mesh.F.rows()));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
+    triangles->findOrAddVertex(btVector3(mesh.V(i, 0), mesh.V(i, 1), mesh.V(i, 2)), false);
+  }
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) {
+    triangles->addTriangleIndices(mesh.F(f, 0), mesh.F(f, 1), mesh.F(f, 2));
+  }
+  auto shape = std::make_unique<btBvhTriangleMeshShape>(triangles.get(), true);
+  // No margin, as a plane's: the triangles are where the file puts them.
+  shape->setMargin(0);
+  w.triangle_meshes.push_back(std::move(triangles));
+  return shape;
+}
+
+// A dynamic body. Its Bullet frame is the principal frame at the centre of mass; the collision
+// shape, given in placed mesh coordinates, sits in it through the compound's child transform
+// y = A^T (x - c).
+btRigidBody* add_body(BulletWorld& w, const RigidBody& r, const RigidSettings& settings,
+                      double friction) {
+  const RigidMassProperties& mass = r.mass;
+  if (!(mass.mass > 0) || !(mass.principal_moments.minCoeff() > 0)) {
+    throw InputError("rigid body " + r.name + " needs positive mass and principal moments");
+  }
+  const Eigen::Matrix3d A = mass.principal_axes;
+  const Eigen::Vector3d c0 = mass.centre;
+  auto child = make_child_shape(r.shape, settings.margin);
+  auto compound = std::make_unique<btCompoundShape>();
+  const Eigen::Vector3d child_origin = A.transpose() * (r.shape.kind == RigidShapeKind::kConvexHull
+                                                            ? Eigen::Vector3d(-c0)
+                                                            : Eigen::Vector3d(r.shape.centre - c0));
+  compound->addChildShape(btTransform(to_bt(Eigen::Matrix3d(A.transpose())), to_bt(child_origin)),
+                          child.get());
+  auto motion = std::make_unique<btDefaultMotionState>(btTransform(to_bt(A), to_bt(c0)));
+  btRigidBody::btRigidBodyConstructionInfo ci(mass.mass, motion.get(), compound.get(),
+                                              to_bt(mass.principal_moments));
+  ci.m_linearDamping = 0;
+  ci.m_angularDamping = 0;
+  ci.m_restitution = settings.restitution;
+  ci.m_friction = friction;
+  auto body = std::make_unique<btRigidBody>(ci);
+  body->setActivationState(DISABLE_DEACTIVATION);
+  body->setFlags(body->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
+  body->setLinearVelocity(to_bt(r.velocity));
+  body->setAngularVelocity(to_bt(r.angular_velocity));
+  body->setCcdMotionThreshold(0);
+  // Bullet also solves "speculative" contacts that are still apart; combined with restitution
+  // they slow the body before it arrives, so that it lands with almost no speed and bounces
+  // with none. Only touching contacts are solved here.
+  body->setContactProcessingThreshold(0);
+  w.world.addRigidBody(body.get());
+  btRigidBody* added = body.get();
+  w.shapes.push_back(std::move(child));
+  w.shapes.push_back(std::move(compound));
+  w.motion_states.push_back(std::move(motion));
+  w.bodies.push_back(std::move(body));
+  return added;
+}
+
 }  // namespace
 
-std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const RigidShape& shape,
-                                       const Scene& scene, const RigidSettings& settings,
-                                       double duration) {
-  if (!scene.obstacle_meshes.empty()) {
-    throw InputError(scene.source + ": the rigid twin does not know obstacles.meshes yet (issue 19 "
-                     "adds Bullet triangle-mesh obstacles in a later step); simulate, gradcheck and "
-                     "attack do");
-  }
-  if (!(mass.mass > 0) || !(mass.principal_moments.minCoeff() > 0)) {
-    throw InputError("rigid body needs positive mass and principal moments");
-  }
-  if (!(settings.internal_step > 0) || !(settings.margin >= 0) || settings.margin > scene.d_hat) {
+std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
+                                                    const RigidSettings& settings,
+                                                    double duration) {
+  if (world.bodies.empty()) throw InputError("rigid world: no bodies to simulate");
+  if (!(world.time_step > 0) || !(duration >= 0)) {
     std::ostringstream msg;
-    msg << "rigid settings: internal step must be positive and the margin in [0, d_hat = "
-        << scene.d_hat << "] m, got " << settings.internal_step << " s and " << settings.margin << " m";
+    msg << "rigid world: the time step must be positive and the duration not negative, got "
+        << world.time_step << " s and " << duration << " s";
     throw InputError(msg.str());
   }
-  const double h = scene.time_step;
+  if (!(settings.internal_step > 0) || !(settings.margin >= 0) || !(settings.friction >= 0)) {
+    std::ostringstream msg;
+    msg << "rigid settings: the internal step must be positive, the margin and friction not "
+        << "negative, got " << settings.internal_step << " s, " << settings.margin << " m and "
+        << settings.friction;
+    throw InputError(msg.str());
+  }
+  const double h = world.time_step;
   // The largest internal step not above the requested one that divides the output step.
   const int substeps = static_cast<int>(std::ceil(h / settings.internal_step - 1e-9));
   const double dt = h / substeps;
   const int steps = static_cast<int>(std::llround(duration / h));
 
   BulletWorld w;
-  w.world.setGravity(to_bt(scene.gravity));
+  w.world.setGravity(to_bt(world.gravity));
+  w.world.getDispatchInfo().m_enableSatConvex = true;
   btContactSolverInfo& info = w.world.getSolverInfo();
   // Bullet gives zero restitution below 0.2 m/s by default; the cube hits at 0.1 m/s.
   info.m_restitutionVelocityThreshold = 0;
@@ -114,69 +199,42 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
   // drops restitution for points older than two steps, which at small steps is every impact.
   info.m_restingContactRestitutionThreshold = std::numeric_limits<int>::max();
 
-  for (size_t p = 0; p < scene.planes.size(); ++p) {
-    const Plane& plane = scene.planes[p];
-    auto plane_shape = std::make_unique<btStaticPlaneShape>(to_bt(plane.normal), plane.offset);
-    btRigidBody::btRigidBodyConstructionInfo ci(0.0, nullptr, plane_shape.get());
-    auto body = std::make_unique<btRigidBody>(ci);
-    body->setRestitution(p < settings.plane_restitution.size() ? settings.plane_restitution[p] : 1.0);
-    body->setFriction(settings.friction > 0 ? 1.0 : 0.0);
-    w.world.addRigidBody(body.get());
-    w.shapes.push_back(std::move(plane_shape));
-    w.bodies.push_back(std::move(body));
+  // Bullet's pair coefficient is the product of the two objects' (RigidSettings).
+  const double friction = std::sqrt(settings.friction);
+  for (size_t p = 0; p < world.planes.size(); ++p) {
+    const Plane& plane = world.planes[p];
+    add_obstacle(w, std::make_unique<btStaticPlaneShape>(to_bt(plane.normal), plane.offset),
+                 p < settings.plane_restitution.size() ? settings.plane_restitution[p] : 1.0,
+                 friction);
   }
+  for (size_t m = 0; m < world.obstacle_meshes.size(); ++m) {
+    add_obstacle(w, make_mesh_shape(w, world.obstacle_meshes[m]),
+                 m < settings.mesh_restitution.size() ? settings.mesh_restitution[m] : 1.0,
+                 friction);
+  }
+  std::vector<btRigidBody*> bodies;
+  for (const RigidBody& r : world.bodies) bodies.push_back(add_body(w, r, settings, friction));
 
-  // The body frame is the principal frame at the centre of mass; the collision shape, given in
-  // mesh coordinates, sits in it through the compound's child transform y = A^T (x - c).
-  const Eigen::Matrix3d A = mass.principal_axes;
-  const Eigen::Vector3d c0 = mass.centre;
-  auto child = make_child_shape(shape, settings.margin);
-  auto compound = std::make_unique<btCompoundShape>();
-  const Eigen::Vector3d child_origin = A.transpose() * (shape.kind == RigidShapeKind::kConvexHull
-                                                            ? Eigen::Vector3d(-c0)
-                                                            : Eigen::Vector3d(shape.centre - c0));
-  compound->addChildShape(btTransform(to_bt(Eigen::Matrix3d(A.transpose())), to_bt(child_origin)),
-                          child.get());
-  auto motion = std::make_unique<btDefaultMotionState>(btTransform(to_bt(A), to_bt(c0)));
-  btRigidBody::btRigidBodyConstructionInfo ci(mass.mass, motion.get(), compound.get(),
-                                              to_bt(mass.principal_moments));
-  ci.m_linearDamping = 0;
-  ci.m_angularDamping = 0;
-  ci.m_restitution = settings.restitution;
-  ci.m_friction = settings.friction;
-  auto body = std::make_unique<btRigidBody>(ci);
-  body->setActivationState(DISABLE_DEACTIVATION);
-  body->setFlags(body->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
-  body->setLinearVelocity(to_bt(scene.velocity));
-  body->setAngularVelocity(to_bt(scene.angular_velocity));
-  body->setCcdMotionThreshold(0);
-  // Bullet also solves "speculative" contacts that are still apart; combined with restitution
-  // they slow the body before it arrives, so that it lands with almost no speed and bounces
-  // with none. Only touching contacts are solved here.
-  body->setContactProcessingThreshold(0);
-  w.world.addRigidBody(body.get());
-  btRigidBody* object = body.get();
-  w.shapes.push_back(std::move(child));
-  w.shapes.push_back(std::move(compound));
-  w.motion_states.push_back(std::move(motion));
-  w.bodies.push_back(std::move(body));
-
-  auto sample = [&](double t) {
-    const btTransform& T = object->getWorldTransform();
+  auto sample = [&](size_t b, double t) {
+    const btTransform& T = bodies[b]->getWorldTransform();
     RigidState s;
     s.time = t;
     s.position = from_bt(T.getOrigin());
-    s.orientation = Eigen::Quaterniond(from_bt(T.getBasis()) * A.transpose()).normalized();
-    s.velocity = from_bt(object->getLinearVelocity());
-    s.angular_velocity = from_bt(object->getAngularVelocity());
+    s.orientation =
+        Eigen::Quaterniond(from_bt(T.getBasis()) * world.bodies[b].mass.principal_axes.transpose())
+            .normalized();
+    s.velocity = from_bt(bodies[b]->getLinearVelocity());
+    s.angular_velocity = from_bt(bodies[b]->getAngularVelocity());
     return s;
   };
-  std::vector<RigidState> states;
-  states.reserve(steps + 1);
-  states.push_back(sample(0.0));
+  std::vector<std::vector<RigidState>> states(bodies.size());
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    states[b].reserve(steps + 1);
+    states[b].push_back(sample(b, 0.0));
+  }
   for (int n = 1; n <= steps; ++n) {
     for (int k = 0; k < substeps; ++k) w.world.stepSimulation(dt, 0);
-    states.push_back(sample(n * h));
+    for (size_t b = 0; b < bodies.size(); ++b) states[b].push_back(sample(b, n * h));
   }
   return states;
 }

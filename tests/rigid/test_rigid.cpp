@@ -63,53 +63,59 @@ TEST(RigidBody, ShapeDetection) {
   EXPECT_TRUE(a.centre == b.centre);
 }
 
-Scene empty_scene() {
-  Scene s;
-  s.time_step = 0.01;
-  s.planes.clear();
-  return s;
+// A world of one body (the twin of a placed mesh: mass.centre is where it starts), no obstacles,
+// gravity -9.8 m/s^2 along z, output every 0.01 s.
+RigidWorld one_body(const RigidMassProperties& mass, const RigidShape& shape,
+                    const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero(),
+                    const Eigen::Vector3d& angular_velocity = Eigen::Vector3d::Zero()) {
+  RigidWorld w;
+  w.time_step = 0.01;
+  w.bodies.push_back(RigidBody{"object", mass, shape, velocity, angular_velocity});
+  return w;
+}
+
+std::vector<RigidState> object_states(const RigidWorld& world, const RigidSettings& settings, double duration) {
+  return simulate_rigid(world, settings, duration).front();
 }
 
 TEST(RigidSimulation, ProjectileFollowsTheSemiImplicitEulerRecurrence) {
   const TetMesh mesh = box_tet_mesh({-0.1, -0.1, -0.1}, {0.1, 0.1, 0.1}, 1, 1, 1);
-  Scene scene = empty_scene();
-  scene.position = Eigen::Vector3d(0.3, -0.2, 1.0);
-  scene.velocity = Eigen::Vector3d(1.5, -0.5, 4.0);
+  const Eigen::Vector3d x0(0.3, -0.2, 1.0), v0(1.5, -0.5, 4.0);
   RigidSettings settings;
   settings.internal_step = 1e-3;
   Moments m = compute_moments(mesh, 2500.0);
   RigidMassProperties p = rigid_mass_properties(m);
-  p.centre = scene.position;
-  const auto states = simulate_rigid(p, rigid_shape_from_surface(mesh), scene, settings, 0.5);
+  p.centre = x0;
+  const RigidWorld world = one_body(p, rigid_shape_from_surface(mesh), v0);
+  const auto states = object_states(world, settings, 0.5);
   ASSERT_EQ(states.size(), 51u);
   // Bullet: v_{k+1} = v_k + g dt, x_{k+1} = x_k + dt v_{k+1}  =>  after k internal steps
   // x_k = x_0 + k dt v_0 + dt^2 g k (k + 1) / 2, which is off the parabola by g dt t / 2.
   const double dt = 1e-3;
   for (const auto& s : states) {
     const double k = std::round(s.time / dt);
-    const Eigen::Vector3d expected = scene.position + k * dt * scene.velocity + dt * dt * scene.gravity * k * (k + 1) / 2;
+    const Eigen::Vector3d expected = x0 + k * dt * v0 + dt * dt * world.gravity * k * (k + 1) / 2;
     EXPECT_LT((s.position - expected).norm(), 1e-12) << "t = " << s.time;
   }
-  const Eigen::Vector3d parabola = scene.position + 0.5 * scene.velocity + 0.5 * 0.25 * scene.gravity;
+  const Eigen::Vector3d parabola = x0 + 0.5 * v0 + 0.5 * 0.25 * world.gravity;
   EXPECT_NEAR((states.back().position - parabola).norm(), 9.8 * dt * 0.5 / 2, 1e-9);
 }
 
 TEST(RigidSimulation, RestitutionIsHonouredAtLowSpeed) {
   const TetMesh mesh = mesh_shape("sphere", 800);
-  Scene scene = empty_scene();
-  scene.gravity.setZero();
-  scene.planes.push_back(Plane{Eigen::Vector3d::UnitZ(), 0.0});
-  scene.position = Eigen::Vector3d(0, 0, 0.2);
-  scene.velocity = Eigen::Vector3d(0, 0, -0.1);  // below Bullet's default 0.2 m/s threshold
   const Moments m = compute_moments(mesh, 2500.0);
   RigidMassProperties p = rigid_mass_properties(m);
-  p.centre = scene.position;
+  p.centre = Eigen::Vector3d(0, 0, 0.2);
   RigidShape shape = rigid_shape_from_surface(mesh);
-  shape.centre = scene.position;
+  shape.centre = p.centre;
+  // 0.1 m/s: below Bullet's default 0.2 m/s threshold.
+  RigidWorld world = one_body(p, shape, Eigen::Vector3d(0, 0, -0.1));
+  world.gravity.setZero();
+  world.planes.push_back(Plane{Eigen::Vector3d::UnitZ(), 0.0});
   for (double e : {0.5, 0.9, 1.0}) {
     RigidSettings settings;
     settings.restitution = e;
-    const auto states = simulate_rigid(p, shape, scene, settings, 2.0);
+    const auto states = object_states(world, settings, 2.0);
     EXPECT_NEAR(states.back().velocity.z() / 0.1, e, 0.01 * e) << "e = " << e;
     for (const auto& s : states) EXPECT_GT(s.position.z(), shape.radius - 1e-3);
   }
@@ -121,22 +127,22 @@ TEST(RigidSimulation, RestitutionIsHonouredAtLowSpeed) {
 TEST(RigidSimulation, EqualMomentsGiveIdenticalTrajectories) {
   TetMesh mesh = mesh_shape("star", 600);
   mesh.V.rowwise() += Eigen::RowVector3d(0, 2.5, 2.0);
-  Scene scene = empty_scene();
-  scene.time_step = 1.0 / 30;
-  scene.gravity = Eigen::Vector3d(0, 0, -9.8);
-  scene.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}, Plane{Eigen::Vector3d::UnitY(), 0.0}};
-  scene.position = Eigen::Vector3d(0, 2.5, 2.0);
-  scene.velocity = Eigen::Vector3d(0.5, -10, -10);
-  scene.angular_velocity = Eigen::Vector3d(3.0, 1.0, -2.0);
+  // The star's centre of mass is where its mesh is placed: each twin starts there.
+  auto world = [&](const RigidMassProperties& mass) {
+    RigidWorld w = one_body(mass, rigid_shape_from_surface(mesh), Eigen::Vector3d(0.5, -10, -10),
+                            Eigen::Vector3d(3.0, 1.0, -2.0));
+    w.time_step = 1.0 / 30;
+    w.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}, Plane{Eigen::Vector3d::UnitY(), 0.0}};
+    return w;
+  };
   const Eigen::VectorXd rho_ref = Eigen::VectorXd::Constant(mesh.num_tets(), 2500.0);
   const Eigen::VectorXd rho_adv = same_moments_other_density(mesh, rho_ref, 7);
   ASSERT_GT((rho_adv - rho_ref).cwiseAbs().maxCoeff(), 100.0);  // really a different object
   const Moments m_ref = compute_moments(mesh, rho_ref), m_adv = compute_moments(mesh, rho_adv);
-  const RigidShape shape = rigid_shape_from_surface(mesh);
   RigidSettings settings;
   settings.restitution = 0.8;
-  const auto a = simulate_rigid(rigid_mass_properties(m_ref), shape, scene, settings, 1.0);
-  const auto b = simulate_rigid(rigid_mass_properties(m_adv), shape, scene, settings, 1.0);
+  const auto a = object_states(world(rigid_mass_properties(m_ref)), settings, 1.0);
+  const auto b = object_states(world(rigid_mass_properties(m_adv)), settings, 1.0);
   double gap = 0, angle = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     gap = std::max(gap, (a[i].position - b[i].position).norm());
@@ -148,7 +154,7 @@ TEST(RigidSimulation, EqualMomentsGiveIdenticalTrajectories) {
 
   Moments perturbed = m_ref;
   perturbed.m2[0] *= 1.0 + 1e-6;
-  const auto c = simulate_rigid(rigid_mass_properties(perturbed), shape, scene, settings, 1.0);
+  const auto c = object_states(world(rigid_mass_properties(perturbed)), settings, 1.0);
   double moved = 0;
   for (size_t i = 0; i < a.size(); ++i) moved = std::max(moved, (a[i].position - c[i].position).norm());
   EXPECT_GT(moved, 1e-9);
@@ -161,19 +167,20 @@ TEST(RigidSimulation, EqualMomentsGiveIdenticalTrajectories) {
 TEST(RigidSimulation, EqualMomentsWithTiedContactsStayIdentical) {
   TetMesh mesh = mesh_shape("star", 600);
   mesh.V.rowwise() += Eigen::RowVector3d(0, 2.5, 2.0);
-  Scene scene = empty_scene();
-  scene.time_step = 1.0 / 30;
-  scene.gravity.setZero();
-  scene.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}, Plane{Eigen::Vector3d::UnitY(), 0.0}};
-  scene.position = Eigen::Vector3d(0, 2.5, 2.0);
-  scene.velocity = Eigen::Vector3d(0, -10, -10);
+  auto world = [&](const Eigen::VectorXd& rho) {
+    RigidWorld w = one_body(rigid_mass_properties(compute_moments(mesh, rho)),
+                            rigid_shape_from_surface(mesh), Eigen::Vector3d(0, -10, -10));
+    w.time_step = 1.0 / 30;
+    w.gravity.setZero();
+    w.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}, Plane{Eigen::Vector3d::UnitY(), 0.0}};
+    return w;
+  };
   const Eigen::VectorXd rho_ref = Eigen::VectorXd::Constant(mesh.num_tets(), 2500.0);
   const Eigen::VectorXd rho_adv = same_moments_other_density(mesh, rho_ref, 11);
-  const RigidShape shape = rigid_shape_from_surface(mesh);
   RigidSettings settings;
   settings.plane_restitution = {0.6, 0.45};
-  const auto a = simulate_rigid(rigid_mass_properties(compute_moments(mesh, rho_ref)), shape, scene, settings, 1.2);
-  const auto b = simulate_rigid(rigid_mass_properties(compute_moments(mesh, rho_adv)), shape, scene, settings, 1.2);
+  const auto a = object_states(world(rho_ref), settings, 1.2);
+  const auto b = object_states(world(rho_adv), settings, 1.2);
   double gap = 0;
   for (size_t i = 0; i < a.size(); ++i) gap = std::max(gap, (a[i].position - b[i].position).norm());
   EXPECT_LT(gap, 1e-9);
@@ -199,18 +206,16 @@ namespace {
 TEST(RigidSimulation, FlatLandingBoxDoesNotSpin) {
   TetMesh mesh = mesh_shape("cube", 1500);
   mesh.V.rowwise() += Eigen::RowVector3d(0, 0, 0.05);
-  Scene scene = empty_scene();
-  scene.time_step = 0.001;
-  scene.gravity.setZero();
-  scene.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}, Plane{-Eigen::Vector3d::UnitZ(), -0.1}};
-  scene.position = Eigen::Vector3d(0, 0, 0.05);
-  scene.velocity = Eigen::Vector3d(0, 0, -0.1);
   RigidMassProperties p = rigid_mass_properties(compute_moments(mesh, 2500.0));
   const RigidShape shape = rigid_shape_from_surface(mesh);
   ASSERT_EQ(shape.kind, RigidShapeKind::kBox);
+  RigidWorld world = one_body(p, shape, Eigen::Vector3d(0, 0, -0.1));
+  world.time_step = 0.001;
+  world.gravity.setZero();
+  world.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}, Plane{-Eigen::Vector3d::UnitZ(), -0.1}};
   RigidSettings settings;
   settings.plane_restitution = {0.97, 0.95};
-  const auto states = simulate_rigid(p, shape, scene, settings, 1.5);
+  const auto states = object_states(world, settings, 1.5);
   int bounces = 0;
   for (size_t k = 0; k + 1 < states.size(); ++k) {
     if (states[k].velocity.z() * states[k + 1].velocity.z() < 0) ++bounces;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "rbaa/eval/rigid_twin.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
@@ -122,11 +123,12 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b);
 
 /// Fits the restitution of plane `plane` (settings.plane_restitution) so that the rigid
 /// reference's first rebound off it (the ratio of the centre of mass's normal velocities after and
-/// before) equals `target`.
+/// before) equals `target`. `further`: the scene's other bodies' twins (simulate_rigid).
 RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
                                              const RigidShape& shape, const Scene& scene,
                                              RigidSettings settings, double duration, int plane,
-                                             double target, double tolerance);
+                                             double target, double tolerance,
+                                             const std::vector<RigidBody>& further = {});
 
 /// The first rebound ratio of a rigid trace off plane `plane` (NaN if none).
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,

@@ -1,48 +1,64 @@
 #pragma once
-// A rigid object among half-space obstacles in Bullet (double precision): the rigid-body
-// simulator every adversarial object must fool. Bullet types stay inside src/rigid.
+// Rigid bodies among half-space and triangle-mesh obstacles in Bullet (double precision): the
+// rigid-body simulator every adversarial object must fool. It takes the physical model
+// (sim/world.hpp's obstacles, the bodies' mass properties and shapes), never the config; Bullet
+// types stay inside src/rigid.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <string>
 #include <vector>
 
 #include "rbaa/rigid/rigid_body.hpp"
-#include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 
+/// Bullet combines the coefficients of the two objects in a contact by their product. Every
+/// object (body, plane, mesh) gets sqrt(friction), so that every pair, body-obstacle and
+/// body-body alike, has the Coulomb coefficient `friction`. Restitution is a product too: a body
+/// against obstacle i has restitution * plane_restitution[i] (or mesh_restitution[i]); two bodies
+/// have restitution^2.
 struct RigidSettings {
-  double internal_step = 1e-3;  ///< Bullet's fixed step (s); outputs are sampled at the scene's h
-  double restitution = 1.0;     ///< body restitution; Bullet multiplies it with the plane's
-  /// Restitution of each plane (index as in the scene); missing entries are 1.
+  double internal_step = 1e-3;  ///< Bullet's fixed step (s); outputs are sampled at the world's h
+  double restitution = 1.0;     ///< body restitution; Bullet multiplies it with the obstacle's
+  /// Restitution of each plane (index as in RigidWorld::planes); missing entries are 1.
   std::vector<double> plane_restitution;
-  double friction = 0.0;
-  double margin = 1e-4;         ///< collision margin (m), at most d_hat (Bullet's 0.04 m default
-                                ///< is nearly the cube's half size)
+  /// Restitution of each obstacle mesh (index as in RigidWorld::obstacle_meshes); missing are 1.
+  std::vector<double> mesh_restitution;
+  double friction = 0.0;  ///< Coulomb coefficient of every contact (see above)
+  double margin = 1e-4;   ///< collision margin (m), at most d_hat (Bullet's 0.04 m default
+                          ///< is nearly the cube's half size)
   /// Split impulse with a generous penetration threshold: Bullet's default Baumgarte correction
   /// (erp 0.2) pushes bodies apart with extra energy and spoils the restitution.
   bool split_impulse = true;
   int solver_iterations = 200;  ///< projected Gauss-Seidel sweeps per step (Bullet default 10)
 };
 
-/// State of the object at one output time, in the mesh frame: the mesh point x0 (rest mesh
-/// coordinates) is at position + orientation (x0 - rest centre).
-struct RigidState {
-  double time = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< centre of mass (m)
-  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< mesh frame rotation
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< m/s
-  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< rad/s (world)
+/// What the twin simulates: bodies (the object first) among static obstacles under gravity,
+/// sampled every time_step.
+struct RigidWorld {
+  std::vector<RigidBody> bodies;
+  std::vector<Plane> planes;
+  std::vector<ObstacleMesh> obstacle_meshes;  ///< V and F are used (placed), open surfaces too
+  Eigen::Vector3d gravity{0.0, 0.0, -9.8};    ///< m/s^2
+  double time_step = 0.01;                    ///< h between output samples (s)
 };
 
-/// Simulates the rigid object from the scene's initial state (centre of mass at
-/// scene.position, velocity, angular velocity; `rest_mesh` is the placed initial mesh, so its
-/// orientation is the identity) among the scene's planes, with the scene's gravity, for
-/// `duration` seconds; returns states at t = 0, h, 2h, ... (scene.time_step).
-std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const RigidShape& shape,
-                                       const Scene& scene, const RigidSettings& settings,
-                                       double duration);
+/// State of a body at one output time, in its mesh frame: the mesh point x0 (placed rest mesh
+/// coordinates) is at position + orientation (x0 - mass.centre).
+struct RigidState {
+  double time = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();               ///< centre of mass (m)
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< mesh frame rotation
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();               ///< m/s
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();       ///< rad/s (world)
+};
+
+/// Simulates the world for `duration` seconds; returns, per body in the world's order, its states
+/// at t = 0, h, 2h, ... (h = world.time_step). Throws rbaa::InputError naming the body or setting
+/// at fault (no bodies, non-positive mass or inertia, bad step or margin, empty obstacle mesh).
+std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
+                                                    const RigidSettings& settings, double duration);
 
 }  // namespace rbaa

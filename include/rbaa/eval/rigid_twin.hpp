@@ -1,0 +1,24 @@
+#pragma once
+// The rigid twin of a scene, as `rbaa evaluate` runs it: rigid/ simulates a physical model
+// (RigidWorld) and knows no config, so the scene's obstacles, gravity and time step are handed
+// over here.
+
+#include <vector>
+
+#include "rbaa/rigid/rigid_simulation.hpp"
+#include "rbaa/scene/scene.hpp"
+
+namespace rbaa {
+
+/// The scene's planes, obstacle meshes, gravity and time step around `bodies` (the object first).
+RigidWorld rigid_world(const Scene& scene, std::vector<RigidBody> bodies);
+
+/// The object's states at t = 0, h, 2h, ... (h = scene.time_step) over `duration` seconds: the
+/// object (mass properties and shape of its placed mesh, the scene's initial velocity and spin),
+/// then `further` bodies, among the scene's obstacles. Throws rbaa::InputError when
+/// settings.margin exceeds the scene's d_hat.
+std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const RigidShape& shape,
+                                       const Scene& scene, const RigidSettings& settings,
+                                       double duration, const std::vector<RigidBody>& further = {});
+
+}  // namespace rbaa

@@ -1,0 +1,41 @@
+#include "rbaa/eval/rigid_twin.hpp"
+
+#include <sstream>
+
+#include "rbaa/error.hpp"
+
+namespace rbaa {
+
+RigidWorld rigid_world(const Scene& scene, std::vector<RigidBody> bodies) {
+  RigidWorld world;
+  world.bodies = std::move(bodies);
+  world.planes = scene.planes;
+  world.obstacle_meshes = scene.obstacle_meshes;
+  world.gravity = scene.gravity;
+  world.time_step = scene.time_step;
+  return world;
+}
+
+std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const RigidShape& shape,
+                                       const Scene& scene, const RigidSettings& settings,
+                                       double duration, const std::vector<RigidBody>& further) {
+  // A margin beyond d_hat would let the twin bounce off a gap the deformable body never feels.
+  if (settings.margin > scene.d_hat) {
+    std::ostringstream msg;
+    msg << scene.source << ": the rigid twin's margin " << settings.margin
+        << " m exceeds contact.d_hat = " << scene.d_hat << " m";
+    throw InputError(msg.str());
+  }
+  std::vector<RigidBody> bodies;
+  RigidBody object;
+  object.name = "object";
+  object.mass = mass;
+  object.shape = shape;
+  object.velocity = scene.velocity;
+  object.angular_velocity = scene.angular_velocity;
+  bodies.push_back(std::move(object));
+  bodies.insert(bodies.end(), further.begin(), further.end());
+  return simulate_rigid(rigid_world(scene, std::move(bodies)), settings, duration).front();
+}
+
+}  // namespace rbaa

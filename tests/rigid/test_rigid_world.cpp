@@ -1,0 +1,355 @@
+// The rigid twin's world beyond one body among planes: static triangle-mesh obstacles, several
+// bodies, and Coulomb friction between every pair.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "rbaa/error.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/mesh/grid_mesh.hpp"
+#include "rbaa/mesh/tetrahedralize.hpp"
+#include "rbaa/rigid/rigid_body.hpp"
+#include "rbaa/rigid/rigid_simulation.hpp"
+
+namespace rbaa {
+namespace {
+
+// The twin of `mesh` in uniform density `rho`, moved so that its centre of mass is at `centre`.
+RigidBody twin(TetMesh mesh, const Eigen::Vector3d& centre, double rho,
+               const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero(),
+               const Eigen::Vector3d& angular_velocity = Eigen::Vector3d::Zero()) {
+  mesh.V.rowwise() += (centre - compute_moments(mesh, rho).centre_of_mass()).transpose();
+  return RigidBody{"body", rigid_mass_properties(compute_moments(mesh, rho)),
+                   rigid_shape_from_surface(mesh), velocity, angular_velocity};
+}
+
+// A rectangle as two triangles: corner + s u + t v for s, t in [0, 1] (an open surface).
+ObstacleMesh rectangle(const Eigen::Vector3d& corner, const Eigen::Vector3d& u,
+                       const Eigen::Vector3d& v) {
+  ObstacleMesh m;
+  m.name = "rectangle";
+  m.V.resize(4, 3);
+  m.V.row(0) = corner.transpose();
+  m.V.row(1) = (corner + u).transpose();
+  m.V.row(2) = (corner + u + v).transpose();
+  m.V.row(3) = (corner + v).transpose();
+  m.F.resize(2, 3);
+  m.F << 0, 1, 2, 0, 2, 3;
+  return m;
+}
+
+// The floor z = 0 as a 20 m square of two triangles.
+ObstacleMesh square_floor() {
+  return rectangle(Eigen::Vector3d(-10, -10, 0), Eigen::Vector3d(20, 0, 0),
+                   Eigen::Vector3d(0, 20, 0));
+}
+
+double max_gap(const std::vector<RigidState>& a, const std::vector<RigidState>& b) {
+  double gap = 0;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    gap = std::max(gap, (a[i].position - b[i].position).norm());
+  return gap;
+}
+
+double max_angle(const std::vector<RigidState>& a, const std::vector<RigidState>& b) {
+  double angle = 0;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    angle = std::max(angle, a[i].orientation.angularDistance(b[i].orientation));
+  return angle;
+}
+
+// Least-squares slope of v(t) over the samples with t in [t0, t1].
+double slope(const std::vector<RigidState>& states, const Eigen::Vector3d& direction, double t0,
+             double t1) {
+  double n = 0, st = 0, sv = 0, stt = 0, stv = 0;
+  for (const auto& s : states) {
+    if (s.time < t0 || s.time > t1) continue;
+    const double v = s.velocity.dot(direction);
+    n += 1;
+    st += s.time;
+    sv += v;
+    stt += s.time * s.time;
+    stv += s.time * v;
+  }
+  return (n * stv - st * sv) / (n * stt - st * st);
+}
+
+// --- Triangle-mesh obstacles -------------------------------------------------------------------
+
+// A box falling onto a floor of two triangles moves as on the plane z = 0 through its first bounce,
+// and then comes to rest on the floor's surface. Not closer: Bullet's plane contact collects the
+// face's points by perturbing the box's orientation (rigid_simulation.cpp), which holds a resting
+// box about one margin (1e-4 m) above the plane (measured 0.025098 m for the 0.025 m half side),
+// and lets low-speed bounces start that much early; against triangles the face is clipped
+// exactly (measured 0.024998 m at rest). Through the first bounce the paths agree within 3.6e-5 m
+// and 5.7e-8 rad (measured); a tumbling landing on a corner does not compare this tightly, the
+// two contact generators pick different corner points.
+TEST(RigidMeshObstacles, BoxOnATriangleFloorMatchesThePlane) {
+  const TetMesh cube = mesh_shape("cube", 1500);  // side 0.05 m
+  RigidWorld on_plane;
+  on_plane.time_step = 0.005;
+  on_plane.bodies = {
+      twin(cube, Eigen::Vector3d(-0.3, -0.1, 0.1), 2500, Eigen::Vector3d(0.4, 0.2, -1.0))};
+  on_plane.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}};
+  RigidWorld on_mesh = on_plane;
+  on_mesh.planes.clear();
+  on_mesh.obstacle_meshes = {square_floor()};
+  RigidSettings settings;
+  settings.plane_restitution = {0.5};
+  settings.mesh_restitution = {0.5};
+  const auto a = simulate_rigid(on_plane, settings, 1.0).front();
+  const auto b = simulate_rigid(on_mesh, settings, 1.0).front();
+  // The second landing is at 0.22 s.
+  const std::vector<RigidState> a_first(a.begin(), a.begin() + 41),
+      b_first(b.begin(), b.begin() + 41);
+  const double gap = max_gap(a_first, b_first), angle = max_angle(a_first, b_first);
+  std::printf(
+      "box on the triangle floor: through its first bounce %.3g m and %.3g rad from the plane "
+      "run; at rest at z = %.7f m (on the plane %.7f m)\n",
+      gap, angle, b.back().position.z(), a.back().position.z());
+  EXPECT_GT(b_first[20].velocity.z(),
+            0.3);  // it bounced (0.5 x 1.4 m/s, less gravity): 0.40 m/s at 0.1 s
+  EXPECT_LT(gap, settings.margin);
+  EXPECT_LT(angle, 1e-6);
+  EXPECT_NEAR(b.back().position.z(), 0.025, 1e-5);
+  EXPECT_LT(std::abs(b.back().velocity.z()), 1e-2);
+  EXPECT_LT(b.back().orientation.angularDistance(Eigen::Quaterniond::Identity()), 1e-3);
+}
+
+// A ball against a backboard of one rectangle (open, in y = 0) bounces as off the plane y = 0,
+// from either side, and passes beside its edge as if it were not there.
+TEST(RigidMeshObstacles, BallBouncesOffAnOpenBackboardAsOffThePlane) {
+  const TetMesh ball = mesh_shape("sphere", 800);
+  const ObstacleMesh board =
+      rectangle(Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(0, 0, 2));
+  for (double side : {1.0, -1.0}) {
+    RigidWorld on_plane;
+    on_plane.bodies = {twin(ball, Eigen::Vector3d(0.3, 0.6 * side, 1.5), 2500,
+                            Eigen::Vector3d(0.5, -3 * side, 1))};
+    on_plane.planes = {Plane{side * Eigen::Vector3d::UnitY(), 0.0}};
+    RigidWorld on_mesh = on_plane;
+    on_mesh.planes.clear();
+    on_mesh.obstacle_meshes = {board};
+    RigidSettings settings;
+    settings.plane_restitution = {0.8};
+    settings.mesh_restitution = {0.8};
+    const auto a = simulate_rigid(on_plane, settings, 0.5).front();
+    const auto b = simulate_rigid(on_mesh, settings, 0.5).front();
+    const double gap = max_gap(a, b);
+    std::printf(
+        "ball against the backboard from side %+.0f: largest gap to the plane run %.3g m, "
+        "rebound %.6f\n",
+        side, gap, -b.back().velocity.y() / 3.0);
+    EXPECT_LT(gap, 1e-6);
+    EXPECT_NEAR(b.back().velocity.y(), 0.8 * 3 * side, 1e-3 * 3);
+    EXPECT_GT(b.back().position.y() * side, 0.6);  // back on its own side
+  }
+  RigidWorld beside;
+  beside.bodies = {twin(ball, Eigen::Vector3d(1.5, 0.6, 1.5), 2500, Eigen::Vector3d(0, -3, 1))};
+  beside.obstacle_meshes = {board};
+  const auto c = simulate_rigid(beside, RigidSettings{}, 0.5).front();
+  EXPECT_NEAR(c.back().velocity.y(), -3.0, 1e-12);
+  EXPECT_LT(c.back().position.y(), -0.8);
+}
+
+TEST(RigidMeshObstacles, AMeshWithoutTrianglesIsRefusedByName) {
+  RigidWorld world;
+  world.bodies = {twin(mesh_shape("cube", 300), Eigen::Vector3d(0, 0, 1), 2500)};
+  ObstacleMesh empty;
+  empty.name = "obstacles.meshes[0] (empty.obj)";
+  world.obstacle_meshes = {empty};
+  try {
+    simulate_rigid(world, RigidSettings{}, 0.1);
+    FAIL() << "an empty obstacle mesh was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("obstacles.meshes[0] (empty.obj)"), std::string::npos)
+        << e.what();
+  }
+}
+
+// --- Several bodies ----------------------------------------------------------------------------
+
+// Two balls of one mesh stacked into one tet mesh, the second three times as dense: each twin
+// gets its own mass, centre and initial velocity, and a head-on elastic collision of the heavy one
+// with the light one at rest gives the textbook velocities (m1 - m2) v / (m1 + m2) and
+// 2 m1 v / (m1 + m2), momentum kept.
+TEST(RigidBodies, StackedBodiesGetTheirOwnMassAndCollideElastically) {
+  TetMesh ball = mesh_shape("sphere", 800);
+  const double radius = rigid_shape_from_surface(ball).radius;
+  TetMesh stacked;
+  stacked.V.resize(2 * ball.num_vertices(), 3);
+  stacked.T.resize(2 * ball.num_tets(), 4);
+  stacked.V << ball.V.rowwise() + Eigen::RowVector3d(0, 0, 1),
+      ball.V.rowwise() + Eigen::RowVector3d(0.5, 0, 1);
+  stacked.T << ball.T, ball.T.array() + ball.num_vertices();
+  std::vector<Body> bodies(2);
+  bodies[0].name = "object";
+  bodies[0].vertex_end = ball.num_vertices();
+  bodies[0].element_end = ball.num_tets();
+  bodies[0].velocity = Eigen::Vector3d(0, 0, 0);
+  bodies[1].name = "'heavy'";
+  bodies[1].vertex_begin = ball.num_vertices();
+  bodies[1].vertex_end = 2 * ball.num_vertices();
+  bodies[1].element_begin = ball.num_tets();
+  bodies[1].element_end = 2 * ball.num_tets();
+  bodies[1].velocity = Eigen::Vector3d(-1, 0, 0);
+  Eigen::VectorXd rho(stacked.num_tets());
+  rho << Eigen::VectorXd::Constant(ball.num_tets(), 1000),
+      Eigen::VectorXd::Constant(ball.num_tets(), 3000);
+
+  RigidWorld world;
+  world.bodies = rigid_bodies(stacked, bodies, rho);
+  world.gravity.setZero();
+  ASSERT_EQ(world.bodies.size(), 2u);
+  const RigidBody &light = world.bodies[0], &heavy = world.bodies[1];
+  const Moments m = compute_moments(ball, 1000.0);
+  EXPECT_NEAR(light.mass.mass, m.m0, 1e-12 * m.m0);
+  EXPECT_NEAR(heavy.mass.mass, 3 * m.m0, 3e-12 * m.m0);
+  EXPECT_LT((heavy.mass.centre - light.mass.centre - Eigen::Vector3d(0.5, 0, 0)).norm(), 1e-12);
+  EXPECT_EQ(heavy.name, "'heavy'");
+  EXPECT_TRUE(heavy.velocity == Eigen::Vector3d(-1, 0, 0));
+  ASSERT_EQ(heavy.shape.kind, RigidShapeKind::kSphere);
+
+  const auto states = simulate_rigid(world, RigidSettings{}, 0.5);
+  ASSERT_EQ(states.size(), 2u);
+  ASSERT_EQ(states[0].size(), 51u);
+  // They touch after (0.5 - 2 r) / 1 m/s = 0.26 s.
+  EXPECT_LT((states[0][20].velocity).norm(), 1e-12);
+  const Eigen::Vector3d v_light = states[0].back().velocity, v_heavy = states[1].back().velocity;
+  std::printf(
+      "elastic collision of a 3:1 pair: light %.9f m/s, heavy %.9f m/s (expected -1.5, -0.5)\n",
+      v_light.x(), v_heavy.x());
+  EXPECT_NEAR(v_light.x(), -1.5, 1e-6);
+  EXPECT_NEAR(v_heavy.x(), -0.5, 1e-6);
+  EXPECT_LT(v_light.tail<2>().norm() + v_heavy.tail<2>().norm(), 1e-9);
+  EXPECT_NEAR(light.mass.mass * v_light.x() + heavy.mass.mass * v_heavy.x(), -heavy.mass.mass,
+              1e-9 * heavy.mass.mass);
+  EXPECT_GT((states[0].back().position - states[1].back().position).norm(), 2 * radius);
+}
+
+// A box dropped on a box that rests on a triangle-mesh floor: bodies collide with each other and
+// with mesh obstacles, and the stack comes to rest at its height, level and centred within a
+// millimetre and a milliradian (measured 1.2e-4 m and 4.1e-4 rad: Bullet's box-box contact points
+// are not symmetric about the centre, so the landing nudges the top box).
+TEST(RigidBodies, BoxDroppedOnABoxComesToRestOnTheMeshFloor) {
+  const TetMesh cube = mesh_shape("cube", 300);  // side 0.05 m
+  RigidWorld world;
+  world.bodies = {twin(cube, Eigen::Vector3d(0, 0, 0.1), 2500, Eigen::Vector3d(0, 0, -0.5)),
+                  twin(cube, Eigen::Vector3d(0, 0, 0.025), 2500)};
+  world.obstacle_meshes = {square_floor()};
+  RigidSettings settings;
+  settings.restitution = 0;
+  settings.friction = 0.5;
+  const auto states = simulate_rigid(world, settings, 1.0);
+  const RigidState &top = states[0].back(), &bottom = states[1].back();
+  std::printf("box on a box on the mesh floor: heights %.7f and %.7f m, speeds %.2g and %.2g m/s\n",
+              top.position.z(), bottom.position.z(), top.velocity.norm(), bottom.velocity.norm());
+  // Bullet's margin (1e-4 m) lies inside a box's extents, so the boxes rest exactly stacked.
+  EXPECT_NEAR(bottom.position.z(), 0.025, 1e-5);
+  EXPECT_NEAR(top.position.z(), 0.075, 1e-5);
+  EXPECT_LT(top.velocity.norm() + bottom.velocity.norm(), 1e-4);
+  EXPECT_LT(top.orientation.angularDistance(Eigen::Quaterniond::Identity()), 1e-3);
+  EXPECT_LT((top.position.head<2>() - bottom.position.head<2>()).norm(), 1e-3);
+}
+
+// --- Friction ----------------------------------------------------------------------------------
+
+// A box sliding on a floor decelerates at mu g (Coulomb), on the analytic plane, on the triangle
+// floor, and on a heavy box (body against body: the pair's coefficient is mu too).
+TEST(RigidFriction, SlidingBoxDeceleratesAtMuG) {
+  const TetMesh cube = mesh_shape("cube", 300);  // side 0.05 m
+  const double mu = 0.3, g = 9.8, v0 = 2.0;
+  RigidSettings settings;
+  settings.friction = mu;
+  settings.restitution = 0;
+  for (const char* floor : {"plane", "mesh", "box"}) {
+    RigidWorld world;
+    world.time_step = 0.005;
+    const double z = std::string(floor) == "box" ? 0.075 : 0.025;
+    world.bodies = {twin(cube, Eigen::Vector3d(0, 0, z), 2500, Eigen::Vector3d(v0, 0, 0))};
+    if (std::string(floor) == "plane") world.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}};
+    if (std::string(floor) == "mesh") world.obstacle_meshes = {square_floor()};
+    if (std::string(floor) == "box") {
+      // A 2 m box under it, on the plane, so heavy that the slider's friction cannot move it.
+      world.bodies.push_back(twin(box_tet_mesh({-1, -1, 0}, {1, 1, 0.05}, 1, 1, 1),
+                                  Eigen::Vector3d(0, 0, 0.025), 2500));
+      world.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}};
+    }
+    const auto states = simulate_rigid(world, settings, 1.0).front();
+    // It stops after v0 / (mu g) = 0.68 s: fit the velocity before.
+    const double a = -slope(states, Eigen::Vector3d::UnitX(), 0.05, 0.6);
+    std::printf(
+        "box sliding on the %s: deceleration %.6f m/s^2 = %.5f mu g; at rest at x = %.6f m "
+        "(v0^2 / (2 mu g) = %.6f)\n",
+        floor, a, a / (mu * g), states.back().position.x(), v0 * v0 / (2 * mu * g));
+    EXPECT_NEAR(a, mu * g, 0.02 * mu * g) << floor;
+    EXPECT_LT(states.back().velocity.norm(), 1e-6) << floor;
+    EXPECT_NEAR(states.back().position.x(), v0 * v0 / (2 * mu * g), 0.02 * v0 * v0 / (2 * mu * g))
+        << floor;
+  }
+}
+
+// On an incline of angle theta (a triangle-mesh ramp) a box with mu = 1.1 tan(theta), launched down
+// the slope, decelerates at g (mu cos - sin) and stops; with mu = 0.9 tan(theta) it slides from
+// rest, accelerating at g (sin - mu cos). Measured: 0.44 % and 1.8 % off. Once stopped it creeps
+// at about one internal step's gravity along the slope, g sin(theta) dt = 3.4 mm/s (measured
+// 3.7 mm/s on average): only touching contacts are solved (RigidSettings), so a resting box loses
+// contact every other step. On the analytic plane z = -x tan(theta) the same hull decelerates 7 %
+// and accelerates 4 % off: the plane's perturbed contact points (rigid_simulation.cpp) are not the
+// face's; that case is left out here and reported.
+TEST(RigidFriction, InclineHoldsAboveTanThetaAndSlidesBelow) {
+  const double theta = 20 * M_PI / 180, g = 9.8, dt = RigidSettings{}.internal_step;
+  const Eigen::Vector3d normal(std::sin(theta), 0, std::cos(theta));  // the plane z = -x tan(theta)
+  const Eigen::Vector3d down(std::cos(theta), 0, -std::sin(theta));
+  // The cube turned by theta about y lies flat on the incline (a convex hull, no longer
+  // axis-aligned).
+  TetMesh cube = mesh_shape("cube", 300);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  cube.V = (cube.V * R.transpose()).eval();
+  for (double factor : {1.1, 0.9}) {
+    const double mu = factor * std::tan(theta);
+    RigidWorld world;
+    world.time_step = 0.005;
+    const double v0 = factor > 1 ? 0.3 : 0.0;
+    world.bodies = {twin(cube, 0.025 * normal, 2500, v0 * down)};
+    ASSERT_EQ(world.bodies[0].shape.kind, RigidShapeKind::kConvexHull);
+    world.obstacle_meshes = {rectangle(-5 * down - 5 * Eigen::Vector3d::UnitY(), 10 * down,
+                                       10 * Eigen::Vector3d::UnitY())};
+    RigidSettings settings;
+    settings.friction = mu;
+    settings.restitution = 0;
+    const auto states = simulate_rigid(world, settings, 1.5).front();
+    const double expected = g * (std::sin(theta) - mu * std::cos(theta));
+    const double stop = factor > 1 ? v0 / -expected : 1.5;  // 0.9 s
+    const double a = slope(states, down, 0.05, stop - 0.1);
+    double tip = 0;  // the angle between the box's bottom face normal and the incline's
+    for (const auto& st : states)
+      tip = std::max(tip, std::acos(std::min(1.0, (st.orientation * normal).dot(normal))));
+    // The mean speed down the slope from 0.1 s after the stop to the end.
+    const size_t from =
+        static_cast<size_t>(std::ceil((std::min(stop, 1.3) + 0.1) / world.time_step));
+    const double after_stop = (states.back().position - states[from].position).dot(down) /
+                              (states.back().time - states[from].time);
+    std::printf(
+        "incline, mu = %.1f tan: acceleration %.6f m/s^2 (expected %.6f, %.2f %% off), speed "
+        "%.4f m/s at the end (mean %.4f m/s down the slope after the stop), tipped %.3g rad\n",
+        factor, a, expected, 100 * (a / expected - 1), states.back().velocity.norm(), after_stop,
+        tip);
+    EXPECT_NEAR(a, expected, 0.03 * std::abs(expected));
+    if (factor > 1) {
+      EXPECT_LT(after_stop, 1.5 * g * std::sin(theta) * dt);
+    } else {
+      EXPECT_GT(states.back().velocity.dot(down), 0.45);  // a 1.5 = 0.50 m/s
+    }
+    // It stays on the incline and does not tip.
+    EXPECT_LT(std::abs(states.back().position.dot(normal) - 0.025), 1e-4);
+    EXPECT_LT(tip, 1e-3);
+  }
+}
+
+}  // namespace
+}  // namespace rbaa
