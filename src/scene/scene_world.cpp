@@ -1,11 +1,13 @@
 #include "rbaa/scene/scene_world.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "rbaa/error.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/sim/body_contact_form.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 
 namespace rbaa {
@@ -111,6 +113,21 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
     w.fixed_materials.nu.segment(at, b.num_elements()) = fields[i].nu;
     w.fixed_materials.rho.segment(at, b.num_elements()) = fields[i].rho;
     w.fixed_materials.alpha.segment(at, b.num_elements()) = fields[i].alpha;
+  }
+  if (w.bodies.size() > 1) {
+    const BodyContactForm contact(w.mesh, vertex_body_ids(w.bodies, w.mesh.num_vertices()),
+                                  scene.d_hat, 1.0);
+    const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(w.mesh.V.data(), 3 * w.mesh.num_vertices());
+    const BodyClearance c = contact.clearance(q, scene.d_hat);
+    if (c.intersecting || c.distance <= scene.d_hat) {
+      std::ostringstream msg;
+      msg << scene.source << ": body " << w.bodies[c.body_a].name << " and body "
+          << w.bodies[c.body_b].name << " start " << (c.intersecting ? "overlapping" : "touching")
+          << " (" << c.pair;
+      if (!c.intersecting) msg << " at distance " << c.distance << " m";
+      msg << "; they must start farther apart than d_hat = " << scene.d_hat << " m)";
+      throw InputError(msg.str());
+    }
   }
   return w;
 }

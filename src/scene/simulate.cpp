@@ -74,6 +74,9 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
     if (const MeshObstacleForm* mesh = sim.mesh_obstacle_form()) {
       o.min_distance = std::min(o.min_distance, mesh->min_distance(q));
     }
+    if (const BodyContactForm* bodies = sim.body_contact_form()) {
+      o.min_distance = std::min(o.min_distance, bodies->min_distance(q));
+    }
   }
   return out;
 }

@@ -123,6 +123,14 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
     mesh_contact_ = std::make_unique<MeshObstacleForm>(rest_, settings_.obstacle_meshes,
                                                        settings_.d_hat, settings_.kappa);
   }
+  if (settings_.bodies.size() > 1) {
+    if (!(settings_.kappa > 0)) {
+      throw InputError("simulation: the barrier stiffness kappa must be positive when there are several bodies");
+    }
+    body_contact_ = std::make_unique<BodyContactForm>(
+        rest_, vertex_body_ids(settings_.bodies, rest_.num_vertices()), settings_.d_hat,
+        settings_.kappa);
+  }
   std::vector<double> mu;
   for (const Plane& plane : settings_.planes) mu.push_back(plane.friction);
   if (std::any_of(mu.begin(), mu.end(), [](double m) { return m != 0; })) {
@@ -154,6 +162,7 @@ void Simulator::build_mass_forms(const MaterialField& materials) {
   if (!settings_.planes.empty()) potential_->add(*contact_, w);
   if (mesh_contact_) potential_->add(*mesh_contact_, w);
   if (plane_friction_) potential_->add(*plane_friction_, w);
+  if (body_contact_) potential_->add(*body_contact_, w);
 }
 
 void Simulator::set_materials(const MaterialField& materials, const std::string& source) {
@@ -196,6 +205,7 @@ void Simulator::reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) {
       throw InputError(msg.str());
     }
   }
+  if (body_contact_) body_contact_->check_separated(q0);
   integrator_.initialize(q0, v0, settings_.gravity);
   step_ = 0;
 }
@@ -257,6 +267,10 @@ StepStats Simulator::advance() {
   if (mesh_contact_) {
     s.min_distance = std::min(s.min_distance, mesh_contact_->min_distance(x));
     s.active_pairs += mesh_contact_->num_active_pairs(x);
+  }
+  if (body_contact_) {
+    s.min_distance = std::min(s.min_distance, body_contact_->min_distance(x));
+    s.active_pairs += body_contact_->num_active_pairs(x);
   }
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;

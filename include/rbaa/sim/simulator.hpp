@@ -19,6 +19,7 @@
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/sim/bdf.hpp"
+#include "rbaa/sim/body_contact_form.hpp"
 #include "rbaa/sim/rigid_rotation_correction.hpp"
 #include "rbaa/sim/contact_form.hpp"
 #include "rbaa/sim/elastic_form.hpp"
@@ -104,6 +105,8 @@ class Simulator {
   ContactForm& contact_form() { return *contact_; }
   /// The mesh-obstacle contact form, or null when the settings have no obstacle meshes.
   MeshObstacleForm* mesh_obstacle_form() { return mesh_contact_.get(); }
+  /// Contact between the bodies, or null with fewer than two.
+  BodyContactForm* body_contact_form() { return body_contact_.get(); }
   /// Friction against planes, or null when no plane has a friction coefficient.
   PlaneFrictionForm* plane_friction_form() { return plane_friction_.get(); }
 
@@ -122,6 +125,7 @@ class Simulator {
   std::unique_ptr<ContactForm> contact_;
   std::unique_ptr<MeshObstacleForm> mesh_contact_;
   std::unique_ptr<PlaneFrictionForm> plane_friction_;
+  std::unique_ptr<BodyContactForm> body_contact_;
   std::unique_ptr<IncrementalPotential> potential_;
   BdfIntegrator integrator_;
   NewtonSolver newton_;
