@@ -202,6 +202,12 @@ void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, c
 }  // namespace
 
 AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
+  // The object is designed and simulated alone; silently dropping the further bodies would
+  // attack another scene than the one given.
+  if (!scene.bodies.empty()) {
+    throw InputError(scene.source + ": key 'bodies': rbaa attack designs the object in a scene of its own; "
+                     "scenes with further bodies are not supported by it yet");
+  }
   const auto start = std::chrono::steady_clock::now();
   auto stage = [&](const std::string& s) {
     if (options.on_stage) options.on_stage(s);

@@ -16,6 +16,7 @@
 #include "rbaa/io/vtu.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/threads.hpp"
+#include "rbaa/sim/vertex_plane.hpp"
 
 namespace rbaa {
 
@@ -68,7 +69,18 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
           q.segment(3 * body.vertex_begin, 3 * body.num_vertices()),
           masses.segment(body.vertex_begin, body.num_vertices())));
     }
-    o.plane_distance = set.min_distance_per_plane(q);
+    // Bounces are the object's: with further bodies, only its surface vertices count.
+    if (bodies.size() > 1) {
+      o.plane_distance.assign(set.planes().size(), std::numeric_limits<double>::infinity());
+      for (int v : set.surface_vertices()) {
+        if (v < object.vertex_begin || v >= object.vertex_end) continue;
+        for (std::size_t p = 0; p < set.planes().size(); ++p) {
+          o.plane_distance[p] = std::min(o.plane_distance[p], vertex_plane_distance(q.segment<3>(3 * v), set.planes()[p]));
+        }
+      }
+    } else {
+      o.plane_distance = set.min_distance_per_plane(q);
+    }
     o.min_distance = set.min_distance(q);
     // Mesh obstacles: the closest pair within d_hat (beyond it, the planes' figure stands).
     if (const MeshObstacleForm* mesh = sim.mesh_obstacle_form()) {

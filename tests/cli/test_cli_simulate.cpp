@@ -282,3 +282,59 @@ TEST_F(CliSimulate, AttackKilledAndResumedEqualsUninterrupted) {
 }
 
 }  // namespace
+
+namespace {
+
+// Two small balls, the object rolling at a resting target on a floor with friction.
+const char* const kTwoBalls =
+    "mesh: {shape: sphere, radius: 0.05, target_tets: 150}\n"
+    "object: {position: [0, 0, 0.0508], velocity: [2.0, 0, 0]}\n"
+    "bodies:\n"
+    "  - {name: target, mesh: {shape: sphere, radius: 0.06, target_tets: 150},\n"
+    "     position: [0.13, 0.03, 0.0608]}\n"
+    "obstacles: {planes: [{normal: [0, 0, 1], offset: 0, friction: 0.3}]}\n"
+    "time: {step: 0.004, duration: 0.06}\n"
+    "reference_material: {Y: 1.0e9, nu: 0.28, rho: 2500}\n";
+
+TEST_F(CliSimulate, SeveralBodiesRunThroughSimulateAndGradcheck) {
+  const std::string config = write_config("two_balls.yaml", kTwoBalls);
+  const Result r = run("simulate --config=" + config + " --vtu_every=0 --out=" + path("two"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The object's centre, then the target's, per step: the object hit the target and pushed it.
+  std::ifstream csv(path("two/trajectory.csv"));
+  std::string header, line, last;
+  std::getline(csv, header);
+  EXPECT_NE(header.find("target_com_x,target_com_y,target_com_z"), std::string::npos) << header;
+  while (std::getline(csv, line)) last = line;
+  std::vector<double> row;
+  std::stringstream ss(last);
+  for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
+  ASSERT_EQ(row.size(), 20u);
+  EXPECT_GT(row[17], 0.13 + 0.01) << last;  // the target moved along +x
+  // Gradients of each body's materials (--body restricts the directions to one body), by the
+  // exact tangent-linear check: central differences are noise here (see TwoBodyGradient).
+  const Result g = run("gradcheck --config=" + config +
+                       " --fields=Y --body=target --directions=1 --method=tangent");
+  ASSERT_EQ(g.exit_code, 0) << g.err << g.out;
+  EXPECT_NE(g.out.find("relative error"), std::string::npos) << g.out;
+  expect_failure("gradcheck --config=" + config + " --body=ghost", "--body=ghost: the scene has no such body");
+  // Bodies that start overlapping are refused naming both.
+  std::string text = kTwoBalls;
+  text.replace(text.find("[0.13, 0.03, 0.0608]"), 20, "[0.05, 0.0, 0.0608]");
+  const std::string overlap = write_config("overlap.yaml", text);
+  expect_failure("simulate --config=" + overlap + " --out=" + path("o"), "body object and body 'target' start overlapping");
+}
+
+}  // namespace
+
+namespace {
+
+TEST_F(CliSimulate, AttackAndStudyRefuseScenesWithFurtherBodies) {
+  const std::string config = write_config("two_balls.yaml", kTwoBalls);
+  expect_failure("attack --config=" + config + " --out=" + path("a"),
+                 "key 'bodies': rbaa attack designs the object in a scene of its own");
+  expect_failure("study --config=" + config + " --out=" + path("s"),
+                 "key 'bodies': rbaa study designs the object in a scene of its own");
+}
+
+}  // namespace
