@@ -33,10 +33,17 @@ class IncrementalPotential {
 
   const SparseHessian& hessian_pattern() const { return hessian_; }
 
+  /// Wall seconds spent inside `form` (every call through this potential) since the last
+  /// reset_timers(): what a benchmark weighs a form's cost with (e.g. contact's broad phase,
+  /// narrow phase and CCD against a Newton iteration).
+  double form_seconds(const Form& form) const;
+  void reset_timers();
+
  private:
   struct Term {
     Form* form;
     double weight;
+    mutable double seconds = 0;
   };
   std::vector<Term> terms_;
   SparseHessian& hessian_;
