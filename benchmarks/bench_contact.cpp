@@ -215,6 +215,15 @@ BENCHMARK(BM_Ccd)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
+// The Newton-step benchmarks' counters from their sums over the benchmark's iterations.
+void report_step(benchmark::State& state, double step, double contact, int iterations, int pairs) {
+  state.counters["newton_iterations"] = double(iterations) / state.iterations();
+  state.counters["ms_per_iteration"] = 1e3 * step / iterations;
+  state.counters["contact_ms_per_iteration"] = 1e3 * contact / iterations;
+  state.counters["contact_share"] = contact / step;
+  state.counters["active_pairs"] = pairs;
+}
+
 // Issue 19 item 6 in one run: the paper's ball (CGAL, 9056 tets target, Y 1e13) 0.5 mm above the
 // rim moving (-2, 1, -2.5) m/s, one 0.01 s contact step with the rim and backboard as static mesh
 // obstacles. Counters: Newton iterations of the step, wall ms per iteration, and the ms per
@@ -276,11 +285,7 @@ void BM_BallAgainstRimNewtonStep(benchmark::State& state) {
     iterations += st.newton_iterations;
     pairs = st.active_pairs;
   }
-  state.counters["newton_iterations"] = double(iterations) / state.iterations();
-  state.counters["ms_per_iteration"] = 1e3 * step / iterations;
-  state.counters["contact_ms_per_iteration"] = 1e3 * contact / iterations;
-  state.counters["contact_share"] = contact / step;
-  state.counters["active_pairs"] = pairs;
+  report_step(state, step, contact, iterations, pairs);
 }
 BENCHMARK(BM_BallAgainstRimNewtonStep)->Unit(benchmark::kMillisecond);
 
@@ -334,11 +339,7 @@ void BM_FourCubeStackNewtonStep(benchmark::State& state) {
     iterations += st.newton_iterations;
     pairs = st.active_pairs;
   }
-  state.counters["newton_iterations"] = double(iterations) / state.iterations();
-  state.counters["ms_per_iteration"] = 1e3 * step / iterations;
-  state.counters["contact_ms_per_iteration"] = 1e3 * contact / iterations;
-  state.counters["contact_share"] = contact / step;
-  state.counters["active_pairs"] = pairs;
+  report_step(state, step, contact, iterations, pairs);
 }
 BENCHMARK(BM_FourCubeStackNewtonStep)->Unit(benchmark::kMillisecond);
 
