@@ -1,4 +1,3 @@
-#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/scene/simulate.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,4 +1,3 @@
-#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/study/trade_off_study.hpp"
 
 #include <Eigen/Geometry>
@@ -24,6 +23,7 @@
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"

@@ -13,7 +13,6 @@
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_world.hpp"
-#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
 #include "rbaa/sim/trajectory.hpp"
