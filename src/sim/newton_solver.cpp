@@ -105,7 +105,9 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
       throw SolverError(context + ": non-finite Newton step at iteration " + std::to_string(it));
     }
     if (velocity < tol) return result;
-    if (velocity < std::max(kFloorFactor * tol, kFloorRelative * x.lpNorm<Eigen::Infinity>() / h)) {
+    const bool floor_regime =
+        velocity < std::max(kFloorFactor * tol, kFloorRelative * x.lpNorm<Eigen::Infinity>() / h);
+    if (floor_regime) {
       if (velocity < best_velocity) {
         best_velocity = velocity;
         stalled = 0;
@@ -142,7 +144,20 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     const double alpha0 = alpha;
     Eigen::VectorXd trial;
     int halvings = 0;
-    for (;; ++halvings) {
+    // Where the step is this small, the energy change of a stiff barrier's step (~1e-27 J for
+    // 1e-14 m at d ~ 4e-6 m) lies far below the energy's rounding (~1e-21 J): value differences
+    // are noise, the search halves at random and Newton stalled at ~1e-11 m/s, 1e3 x above its
+    // usual floor. There a full admissible step that lowers the gradient's norm is taken instead.
+    bool gradient_accepted = false;
+    if (floor_regime && alpha == 1.0) {
+      trial = step_at(1.0);
+      if (E.is_step_valid(x, trial) && !(E.value_difference(x, trial) <= 0) &&
+          E.gradient(trial).norm() < g.norm()) {
+        gradient_accepted = true;
+        ++result.gradient_accepted_steps;
+      }
+    }
+    for (; !gradient_accepted; ++halvings) {
       if (halvings > settings_.max_line_search_halvings) {
         std::ostringstream msg;
         msg << context << ": line search failed at Newton iteration " << it

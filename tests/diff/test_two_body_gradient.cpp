@@ -59,20 +59,18 @@ TEST(TwoBodyGradient, AdjointMatchesFiniteDifferencesPerFieldAndBody) {
       std::printf("\n");
       EXPECT_GE(r.active_contact_steps, 3);
       for (const DirectionCheck& d : r.directions) EXPECT_NE(d.adjoint, 0.0);
-      // WEAKER THAN SPEC'S BAR for Y, nu and alpha (open, issue 19): rho meets 1e-5 (measured
-      // <= 3e-8 per body), but the elastic fields' derivatives are 100x smaller and their central
-      // differences are noise: errors of 3e-6 .. 1 at s = 1e-2 against 1e-6 .. 7e-3 at 4 s,
-      // unchanged by Newton tolerance 1e-14 or without the rigid predictor. The impact's deepest
-      // step ends round-off-limited at 1.2e-11 m/s (others at ~2e-14): the barrier's value
-      // difference at d ~ 4e-6 m cannot resolve the line search's energy changes there. The
-      // adjoint is the tangent's transpose to 5e-16 (next test). So Y, nu and alpha pass at 1e-5
-      // or when the check calls the direction noise-dominated.
+      // WEAKER THAN SPEC'S BAR for nu (open, issue 19): Y, rho and alpha meet 1e-5 (measured
+      // <= 1.6e-7 per body), but nu's derivative is 20x smaller than Y's and one of its
+      // directions measured 5e-4 at s = 1e-2 (noise-dominated: 1e-6 at 4 s). The deep impact step
+      // stops near Newton's round-off floor, where energy differences are noise (the solver now
+      // takes full steps there when they lower the gradient's norm: before that, Y and alpha were
+      // noise at up to 5e-3 too). The adjoint is the tangent's transpose to 1e-15 (next test).
       for (const DirectionCheck& d : r.directions) {
-        if (field == DesignField::kRho) {
-          EXPECT_LE(d.relative_error, 1e-5) << "rho of " << body.name;
+        if (field != DesignField::kNu) {
+          EXPECT_LE(d.relative_error, 1e-5) << design_field_name(field) << " of " << body.name;
         } else {
           EXPECT_TRUE(d.relative_error <= 1e-5 || d.noise_dominated)
-              << design_field_name(field) << " of " << body.name << ": " << d.relative_error;
+              << "nu of " << body.name << ": " << d.relative_error;
         }
       }
     }

@@ -54,6 +54,9 @@ struct NewtonResult {
   /// progress at all, only noise). step_velocity is then the floor's latest step and
   /// floor_velocity the slowest step seen.
   bool roundoff_limited = false;
+  /// Steps taken because they lowered the gradient's norm where the energy change was below its
+  /// rounding (newton_solver.cpp).
+  int gradient_accepted_steps = 0;
   double floor_velocity = 0;
   // Where the time went (wall seconds, summed over the iterations).
   double gradient_seconds = 0;       ///< energy gradients
