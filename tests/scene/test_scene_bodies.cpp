@@ -147,3 +147,33 @@ TEST(SceneBodies, TheFingerprintSeesEveryBody) {
 
 }  // namespace
 }  // namespace rbaa
+
+namespace rbaa {
+namespace {
+
+// Friction keys: per plane, the contact default, the smoothing speed; bad values in one line.
+TEST(SceneFriction, PlanesTakeTheirOwnCoefficientOrTheContactDefault) {
+  const Scene s = parse_scene(
+      "mesh: {shape: cube}\nobstacles: {planes: [{normal: [0, 0, 1], offset: -1, friction: 0.7},"
+      " {normal: [1, 0, 0], offset: -1}]}\ncontact: {friction: 0.3, friction_eps_v: 0.01}\n",
+      "test.yaml", "");
+  ASSERT_EQ(s.planes.size(), 2u);
+  EXPECT_EQ(s.planes[0].friction, 0.7);
+  EXPECT_EQ(s.planes[1].friction, 0.3);
+  EXPECT_EQ(s.friction_eps_v, 0.01);
+  EXPECT_EQ(simulation_settings(s, 1.0).friction_eps_v, 0.01);
+  const std::string negative = error_of(
+      "mesh: {shape: cube}\nobstacles: {planes: [{normal: [0, 0, 1], offset: -1, friction: -0.1}]}\n");
+  EXPECT_NE(negative.find("obstacles.planes[0].friction"), std::string::npos) << negative;
+  const std::string eps = error_of("mesh: {shape: cube}\ncontact: {friction_eps_v: 0}\n");
+  EXPECT_NE(eps.find("contact.friction_eps_v"), std::string::npos) << eps;
+  const std::string mu = error_of("mesh: {shape: cube}\ncontact: {friction: -1}\n");
+  EXPECT_NE(mu.find("contact.friction"), std::string::npos) << mu;
+  for (const std::string& e : {negative, eps, mu}) {
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    EXPECT_EQ(e.rfind("test.yaml", 0), 0u) << e;
+  }
+}
+
+}  // namespace
+}  // namespace rbaa
