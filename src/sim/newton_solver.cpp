@@ -49,9 +49,12 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
   int stalled = 0;
 
   const Eigen::SparseMatrix<double>* H_last = nullptr;
+  Eigen::VectorXd carried_gradient;  // the gradient at x when the last step computed it
   for (int it = 0; it < settings_.max_iterations; ++it) {
     Clock::time_point t0 = Clock::now();
-    Eigen::VectorXd g = E.gradient(x);
+    // A step taken for its gradient (below) brings that gradient along.
+    Eigen::VectorXd g = carried_gradient.size() ? std::move(carried_gradient) : E.gradient(x);
+    carried_gradient = Eigen::VectorXd();
     lap(t0, result.gradient_seconds);
     // The sub-step costs a few products with the last Hessian and one energy difference.
     if (subspace_ && H_last && g.allFinite()) {
@@ -151,10 +154,13 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     bool gradient_accepted = false;
     if (floor_regime && alpha == 1.0) {
       trial = step_at(1.0);
-      if (E.is_step_valid(x, trial) && !(E.value_difference(x, trial) <= 0) &&
-          E.gradient(trial).norm() < g.norm()) {
-        gradient_accepted = true;
-        ++result.gradient_accepted_steps;
+      if (E.is_step_valid(x, trial) && !(E.value_difference(x, trial) <= 0)) {
+        Eigen::VectorXd g_trial = E.gradient(trial);
+        if (g_trial.norm() < g.norm()) {
+          gradient_accepted = true;
+          ++result.gradient_accepted_steps;
+          carried_gradient = std::move(g_trial);
+        }
       }
     }
     for (; !gradient_accepted; ++halvings) {
