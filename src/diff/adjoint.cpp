@@ -82,9 +82,8 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     if (qbar.isZero(0.0)) continue;  // nothing later depends on this step
     const Eigen::VectorXd& x = traj.q[k + 1];
     ++result.stats.solves;
-    // Friction's lag of this step (its Hessian and its history terms need it).
-    PlaneFrictionForm* friction = sim.plane_friction_form();
-    if (friction != nullptr) friction->lag(traj.position(k), traj.position(k - 1));
+    // The forms' lag of this step (lagged friction's Hessian and history terms need it).
+    sim.potential().lag(traj.position(k), traj.position(k - 1));
 
     const auto t_solve = std::chrono::steady_clock::now();
     const CholmodFactor* stored =
@@ -117,8 +116,9 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     // dC/dq_hat = M lambda, spread over the predictor's positions.
     const Eigen::VectorXd Mlambda = sim.inertia_form().multiply(lambda);
     for (int j = 0; j < static_cast<int>(c.size()); ++j) adj.at(k - j) += c[j] * Mlambda;
-    // Lagged friction depends on q_n and q_{n-1} through its normal forces and x~.
-    if (friction != nullptr) friction->add_history_adjoint(x, lambda, w, adj.at(k), adj.at(k - 1));
+    // Forms that depend on q_n and q_{n-1} besides through q_hat (lagged friction's normal forces
+    // and x~).
+    sim.potential().add_history_adjoint(x, lambda, adj.at(k), adj.at(k - 1));
 
     // dC/dtheta_e -= lambda_e^T [dM/dtheta_e u + w d(grad Psi)/dtheta_e], per element.
     const auto t_parameters = std::chrono::steady_clock::now();

@@ -135,9 +135,8 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
   for (int k = 0; k < N; ++k) {
     ++result.stats.steps;
     const Eigen::VectorXd& x = traj.q[k + 1];
-    PlaneFrictionForm* friction = sim.plane_friction_form();
-    if (friction != nullptr) friction->lag(traj.position(k), traj.position(k - 1));
     IncrementalPotential& E = sim.potential();
+    E.lag(traj.position(k), traj.position(k - 1));
     E.solution_changed(x);
     const int fb0 = factorizer.num_ldlt_fallbacks();
     // Assembled before the pattern version is read: the pattern follows the contact pairs.
@@ -158,7 +157,9 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
       Eigen::VectorXd rhs = sim.inertia_form().multiply(dq_hat) -
                             material_forcing(sim, materials, directions[i].materials, x, u, w,
                                              consistent);
-      if (friction != nullptr) rhs -= friction->history_tangent(x, dq[i][k + 3], dq[i][k + 2], w);
+      Eigen::VectorXd history = Eigen::VectorXd::Zero(ndof);
+      E.add_history_tangent(x, dq[i][k + 3], dq[i][k + 2], history);
+      rhs -= history;
       dq[i][k + 4] = factorizer.solve(rhs);
       result.derivatives[i] += dot_or_zero(seed.dq[k + 1], dq[i][k + 4]);
       result.bounds[i] += norm_product(seed.dq[k + 1], dq[i][k + 4]);

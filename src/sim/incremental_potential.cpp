@@ -106,4 +106,23 @@ void IncrementalPotential::solution_changed(const Eigen::VectorXd& q) {
   }
 }
 
+void IncrementalPotential::lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) {
+  for (const Term& t : terms_) {
+    const ScopeTimer timer(t.seconds);
+    t.form->lag(q_n, q_previous);
+  }
+}
+
+void IncrementalPotential::add_history_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
+                                               Eigen::VectorXd& bar_n,
+                                               Eigen::VectorXd& bar_previous) const {
+  for (const Term& t : terms_) t.form->add_history_adjoint(x, a, t.weight, bar_n, bar_previous);
+}
+
+void IncrementalPotential::add_history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,
+                                               const Eigen::VectorXd& dq_previous,
+                                               Eigen::VectorXd& out) const {
+  for (const Term& t : terms_) t.form->add_history_tangent(x, dq_n, dq_previous, t.weight, out);
+}
+
 }  // namespace rbaa

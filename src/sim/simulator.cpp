@@ -215,7 +215,7 @@ StepStats Simulator::advance() {
   const Eigen::VectorXd& q_n = integrator_.current();
   const Eigen::VectorXd q_hat = integrator_.predictor();
   inertia_->set_predictor(q_hat);
-  if (plane_friction_) plane_friction_->lag(q_n, integrator_.past(1));
+  potential_->lag(q_n, integrator_.past(1));
 
   // Start from the ballistic guess q_hat + w g (the exact answer for a free, undeformed body:
   // M (q - q_hat) = w M g) when the straight path to it is admissible, else from q_n. Starting

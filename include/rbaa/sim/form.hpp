@@ -44,6 +44,23 @@ class Form {
   }
   /// Called by the solver whenever its iterate changes (contact forms rebuild their pair set).
   virtual void solution_changed(const Eigen::VectorXd& q) {}
+
+  // History hooks, for forms whose energy at step n+1 depends on earlier positions other than
+  // through the predictor q_hat (lagged friction: its normal forces, tangent bases and x~). The
+  // simulator calls lag(q_n, q_{n-1}) before each step; the backward pass and the tangent-linear
+  // pass call it again before linearising that step, then ask for the terms of the step equation
+  // G = ... + scale grad E(x; q_n, q_{n-1}) = 0 in the history positions. The adjoint and the
+  // tangent sum these over the forms and never name one.
+
+  /// Fixes the form's dependence on the newest position q_n and the one before it.
+  virtual void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) {}
+  /// bar_n += -(dG/dq_n)^T a and bar_previous += -(dG/dq_{n-1})^T a for G's term scale grad E at x.
+  virtual void add_history_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double scale,
+                                   Eigen::VectorXd& bar_n, Eigen::VectorXd& bar_previous) const {}
+  /// out += (dG/dq_n) dq_n + (dG/dq_{n-1}) dq_previous for G's term scale grad E at x.
+  virtual void add_history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,
+                                   const Eigen::VectorXd& dq_previous, double scale,
+                                   Eigen::VectorXd& out) const {}
 };
 
 }  // namespace rbaa

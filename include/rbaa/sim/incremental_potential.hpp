@@ -31,6 +31,13 @@ class IncrementalPotential {
   bool is_step_valid(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const;
   void solution_changed(const Eigen::VectorXd& q);
 
+  /// The forms' history hooks (form.hpp), each term with its weight as scale.
+  void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous);
+  void add_history_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
+                           Eigen::VectorXd& bar_n, Eigen::VectorXd& bar_previous) const;
+  void add_history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,
+                           const Eigen::VectorXd& dq_previous, Eigen::VectorXd& out) const;
+
   const SparseHessian& hessian_pattern() const { return hessian_; }
 
   /// Wall seconds spent inside `form` (every call through this potential) since the last

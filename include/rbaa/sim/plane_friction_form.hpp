@@ -38,7 +38,7 @@ class PlaneFrictionForm : public Form {
                     Integrator integrator, double time_step);
 
   /// Lags the pairs, normal forces and x~ from the newest position q_n and the one before it.
-  void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous);
+  void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) override;
 
   const char* name() const override { return "friction"; }
   double value(const Eigen::VectorXd& x) const override;
@@ -51,10 +51,15 @@ class PlaneFrictionForm : public Form {
   /// bar_n += -(dG/dq_n)^T a and bar_previous += -(dG/dq_{n-1})^T a for G's term w grad D at x
   /// (the lag set by lag(q_n, q_{n-1})).
   void add_history_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double w,
-                           Eigen::VectorXd& bar_n, Eigen::VectorXd& bar_previous) const;
+                           Eigen::VectorXd& bar_n, Eigen::VectorXd& bar_previous) const override;
   /// (dG/dq_n) dq_n + (dG/dq_{n-1}) dq_previous for G's term w grad D at x.
   Eigen::VectorXd history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,
                                   const Eigen::VectorXd& dq_previous, double w) const;
+  void add_history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,
+                           const Eigen::VectorXd& dq_previous, double w,
+                           Eigen::VectorXd& out) const override {
+    out += history_tangent(x, dq_n, dq_previous, w);
+  }
 
   int num_lagged_pairs() const { return static_cast<int>(pairs_.size()); }
   double eps() const { return eps_; }
