@@ -125,4 +125,17 @@ void IncrementalPotential::add_history_tangent(const Eigen::VectorXd& x, const E
   for (const Term& t : terms_) t.form->add_history_tangent(x, dq_n, dq_previous, t.weight, out);
 }
 
+void IncrementalPotential::add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
+                                                const MaterialField& materials,
+                                                MaterialGradient& g) const {
+  for (const Term& t : terms_) t.form->add_material_adjoint(x, a, t.weight, materials, g);
+}
+
+void IncrementalPotential::add_material_tangent(const Eigen::VectorXd& x,
+                                                const MaterialGradient& direction,
+                                                const MaterialField& materials,
+                                                Eigen::VectorXd& out) const {
+  for (const Term& t : terms_) t.form->add_material_tangent(x, direction, t.weight, materials, out);
+}
+
 }  // namespace rbaa

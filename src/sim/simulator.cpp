@@ -152,8 +152,9 @@ void Simulator::build_mass_forms(const MaterialField& materials) {
   const Eigen::VectorXd density = materials.effective_density();
   vertex_masses_ = rbaa::vertex_masses(rest_, density);
   rigid_clusters_ = stiff_clusters(rest_, materials);
-  inertia_ = std::make_unique<InertiaForm>(mass_matrix(rest_, density, settings_.mass, *hessian_));
-  gravity_ = std::make_unique<GravityForm>(vertex_masses_, settings_.gravity);
+  const UnitElementMass unit(rest_, settings_.mass);
+  inertia_ = std::make_unique<InertiaForm>(mass_matrix(rest_, density, settings_.mass, *hessian_), unit);
+  gravity_ = std::make_unique<GravityForm>(vertex_masses_, settings_.gravity, unit);
   const double w = integrator_.potential_weight();
   potential_ = std::make_unique<IncrementalPotential>(*hessian_);
   potential_->add(*inertia_, 1.0);

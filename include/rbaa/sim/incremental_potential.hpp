@@ -37,6 +37,11 @@ class IncrementalPotential {
                            Eigen::VectorXd& bar_n, Eigen::VectorXd& bar_previous) const;
   void add_history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,
                            const Eigen::VectorXd& dq_previous, Eigen::VectorXd& out) const;
+  /// The forms' material hooks (form.hpp), each term with its weight as scale.
+  void add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
+                            const MaterialField& materials, MaterialGradient& g) const;
+  void add_material_tangent(const Eigen::VectorXd& x, const MaterialGradient& direction,
+                            const MaterialField& materials, Eigen::VectorXd& out) const;
 
   const SparseHessian& hessian_pattern() const { return hessian_; }
 
