@@ -49,6 +49,7 @@ struct NewtonResult {
   int ccd_limited_steps = 0;      ///< steps shortened by the forms' max_step_size
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
   int subspace_steps = 0;         ///< sub-steps taken (set_subspace_step), no factorisation each
+  int extrapolations = 0;         ///< step doublings taken after full steps (newton_solver.cpp)
   /// Stopped above the tolerance at the round-off floor: kFloorWindow steps in a row, all below
   /// kFloorFactor x tolerance, none smaller than the smallest step before them (no
   /// progress at all, only noise). step_velocity is then the floor's latest step and
