@@ -373,6 +373,8 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   ev.reference_own_twin.gap = ev.deformable_vs_rigid;
   ev.reference_own_twin.path_length = ev.baseline_path_length;
   ev.reference_own_twin.unexplained = ev.baseline_disagreement;
+  ev.adversarial_mesh = adversarial_mesh;
+  ev.adversarial_materials = adversarial_materials;
   ev.attack_advantage = ev.deformable_vs_rigid.position_gap > 0
                             ? ev.deformable_vs_deformable.position_gap / ev.deformable_vs_rigid.position_gap
                             : INFINITY;

@@ -6,6 +6,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
+#include "rbaa/eval/material_sections.hpp"
 #include "rbaa/eval/path_plot.hpp"
 #include "rbaa/io/atomic_file.hpp"
 #include "rbaa/io/number_text.hpp"
@@ -78,6 +79,13 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     series.push_back(std::move(s));
   }
   const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths", series, scene.planes);
+  const std::string materials_png =
+      ev.adversarial_mesh.num_tets() == 0
+          ? std::string()
+          : write_material_sections(dir + "/adversarial_materials",
+                                    scene.name + ": the adversarial object's materials through its centre of mass",
+                                    ev.adversarial_mesh, ev.adversarial_materials,
+                                    ev.adversarial_moments.centre_of_mass());
 
   nlohmann::json calibration = nlohmann::json::array();
   for (const auto& c : ev.calibrations) {
@@ -135,7 +143,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"rigid_identical", ev.rigid_vs_rigid.max_position_gap <= 1e-9},
       {"timing_s", timing},
       {"files", files},
-      {"plot", png.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(png).filename().string())}};
+      {"plot", png.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(png).filename().string())},
+      {"materials_plot", materials_png.empty() ? nlohmann::json(nullptr)
+                                               : nlohmann::json(std::filesystem::path(materials_png).filename().string())}};
   write_file_atomically(dir + "/report.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 
   write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
@@ -217,6 +227,10 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "| run | wall time (s) | CSV |\n|---|---|---|\n";
     for (const RunTrace* t : runs) out << "| " << t->name << " | " << fmt(t->seconds) << " | " << file_name(*t) << " |\n";
     if (!png.empty()) out << "\n![paths](paths.png)\n";
+    if (!materials_png.empty()) {
+      out << "\nThe adversarial object's Young's modulus, density and occupancy on the three coordinate planes "
+             "through its centre of mass:\n\n![materials](adversarial_materials.png)\n";
+    }
   });
 }
 

@@ -143,6 +143,11 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     const double percent = std::stod(summary.substr(at + lead.size()));
     EXPECT_NEAR(percent, 100 * ev.baseline_disagreement, 1e-2 * 100 * ev.baseline_disagreement + 1e-12);
   }
+  // The adversarial object's materials picture (data and script always; PNG with gnuplot).
+  EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial_materials.dat"));
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+    EXPECT_EQ(report["materials_plot"].get<std::string>(), "adversarial_materials.png");
+  }
   for (const char* f : {"summary.md", "rigid_reference.csv", "rigid_adversarial.csv", "deformable_reference.csv",
                         "deformable_adversarial.csv", "deformable_soft_uniform.csv", "paths.gp"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;

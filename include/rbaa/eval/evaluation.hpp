@@ -122,6 +122,9 @@ struct Evaluation {
   /// discretisation more than the object; a smaller evaluation step helps (README).
   double baseline_path_length = 0;  ///< m
   double baseline_disagreement = 0;
+  /// The adversarial object as evaluated (placed at the scene's pose), for its pictures.
+  TetMesh adversarial_mesh;
+  MaterialField adversarial_materials;
 };
 
 /// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's
