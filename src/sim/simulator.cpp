@@ -258,6 +258,7 @@ StepStats Simulator::advance() {
   s.line_search_halvings = r.line_search_halvings;
   s.ccd_limited_steps = r.ccd_limited_steps;
   s.projected_fallbacks = r.projected_fallbacks;
+  s.extrapolations = r.extrapolations;
   s.gradient_seconds = r.gradient_seconds;
   s.assembly_seconds = r.assembly_seconds;
   s.factorization_seconds = r.factorization_seconds;

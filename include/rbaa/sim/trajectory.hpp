@@ -21,6 +21,7 @@ struct StepStats {
   int line_search_halvings = 0;
   int ccd_limited_steps = 0;
   int projected_fallbacks = 0;
+  int extrapolations = 0;        ///< Newton step doublings (newton_solver.cpp)
   double min_distance = 0;       ///< smallest vertex-obstacle distance at the new q (m)
   int active_pairs = 0;          ///< contact pairs closer than d_hat at the new q
   double seconds = 0;            ///< wall time of the step
