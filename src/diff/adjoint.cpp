@@ -68,7 +68,11 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
   Eigen::VectorXd q_hat(ndof), lambda(ndof);
   for (int k = N - 1; k >= 0; --k) {
     ++result.stats.steps;
-    const Eigen::VectorXd& qbar = adj.at(k + 1);
+    // Driven positions are known functions of time: no adjoint flows into them (the Hessian has
+    // identity rows there, so lambda is zero there too and the free dofs' adjoint is that of the
+    // step equation with the driven dofs fixed).
+    Eigen::VectorXd& qbar = adj.at(k + 1);
+    for (int d : sim.driven_dofs()) qbar[d] = 0.0;
     if (qbar.isZero(0.0)) continue;  // nothing later depends on this step
     const Eigen::VectorXd& x = traj.q[k + 1];
     ++result.stats.solves;
@@ -123,6 +127,8 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     result.dq0 += adj.at(-j);
     result.dv0 -= (j * h) * adj.at(-j);
   }
+  // Driven vertices start where their drive says, at its velocity: not initial-state unknowns.
+  for (int d : sim.driven_dofs()) result.dq0[d] = result.dv0[d] = 0.0;
   result.stats.seconds = seconds_since(t_start);
   return result;
 }

@@ -62,17 +62,19 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
     const Eigen::VectorXd dv0 = d.v0.size() ? d.v0 : Eigen::VectorXd::Zero(ndof);
     dq[i][3] = dq0;
     for (int j = 1; j <= 3; ++j) dq[i][3 - j] = dq0 - (j * h) * dv0;
+    // Driven positions are prescribed: no direction moves them.
+    for (int j = 0; j <= 3; ++j) {
+      for (int dof : sim.driven_dofs()) dq[i][j][dof] = 0.0;
+    }
     // The objective's direct dependence on the materials, and on q_0.
-    result.derivatives[i] += dot_or_zero(seed.direct.Y, d.materials.Y) +
-                             dot_or_zero(seed.direct.nu, d.materials.nu) +
-                             dot_or_zero(seed.direct.rho, d.materials.rho) +
-                             dot_or_zero(seed.direct.alpha, d.materials.alpha) +
-                             dot_or_zero(seed.dq[0], dq0);
-    result.bounds[i] += norm_product(seed.direct.Y, d.materials.Y) +
-                        norm_product(seed.direct.nu, d.materials.nu) +
-                        norm_product(seed.direct.rho, d.materials.rho) +
-                        norm_product(seed.direct.alpha, d.materials.alpha) +
-                        norm_product(seed.dq[0], dq0);
+    result.derivatives[i] +=
+        dot_or_zero(seed.direct.Y, d.materials.Y) + dot_or_zero(seed.direct.nu, d.materials.nu) +
+        dot_or_zero(seed.direct.rho, d.materials.rho) +
+        dot_or_zero(seed.direct.alpha, d.materials.alpha) + dot_or_zero(seed.dq[0], dq[i][3]);
+    result.bounds[i] +=
+        norm_product(seed.direct.Y, d.materials.Y) + norm_product(seed.direct.nu, d.materials.nu) +
+        norm_product(seed.direct.rho, d.materials.rho) +
+        norm_product(seed.direct.alpha, d.materials.alpha) + norm_product(seed.dq[0], dq[i][3]);
   }
 
   HessianFactorizer factorizer;
@@ -102,7 +104,10 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
       Eigen::VectorXd change = Eigen::VectorXd::Zero(ndof);
       E.add_material_tangent(x, directions[i].materials, materials, change);
       E.add_history_tangent(x, dq[i][k + 3], dq[i][k + 2], change);
-      const Eigen::VectorXd rhs = sim.inertia_form().multiply(dq_hat) - change;
+      Eigen::VectorXd rhs = sim.inertia_form().multiply(dq_hat) - change;
+      // The step equation holds at the free dofs only; H's identity rows keep dq zero at driven
+      // ones.
+      for (int dof : sim.driven_dofs()) rhs[dof] = 0.0;
       dq[i][k + 4] = factorizer.solve(rhs);
       result.derivatives[i] += dot_or_zero(seed.dq[k + 1], dq[i][k + 4]);
       result.bounds[i] += norm_product(seed.dq[k + 1], dq[i][k + 4]);

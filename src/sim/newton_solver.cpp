@@ -63,7 +63,8 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     lap(t0, result.gradient_seconds);
     // The sub-step costs a few products with the last Hessian and one energy difference.
     if (subspace_ && H_last && g.allFinite()) {
-      const Eigen::VectorXd ds = subspace_(x, g, *H_last);
+      Eigen::VectorXd ds = subspace_(x, g, *H_last);
+      if (ds.size() == x.size()) E.zero_fixed(ds);
       if (ds.size() == x.size() && ds.allFinite() && g.dot(ds) < 0) {
         const Eigen::VectorXd trial = x + ds;
         if (E.max_step_size(x, trial) >= 1.0 && E.is_step_valid(x, trial) && E.value_difference(x, trial) < 0) {
@@ -101,7 +102,10 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
       throw SolverError(context + ": the projected Hessian is not positive definite at Newton "
                         "iteration " + std::to_string(it));
     }
+    // Exactly zero at fixed dofs already (identity rows, zero gradient there); kept so by
+    // construction, like the transformed and subspace steps below.
     Eigen::VectorXd dq = -solver_.solve(g);
+    E.zero_fixed(dq);
     lap(t0, result.solve_seconds);
     ++result.iterations;
     // A projected Hessian that the projection left unchanged is the exact one.
@@ -134,8 +138,13 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     // alone can cost more than the step gains, so halving the chord needed ~20 halvings per
     // iteration where a body spun hard during a point impact.
     Eigen::VectorXd raw;  // the untransformed step, kept only when the line search follows f
+    auto transformed = [&](const Eigen::VectorXd& step) {
+      Eigen::VectorXd t = transform_(x, step);
+      E.zero_fixed(t);
+      return t;
+    };
     if (transform_) {
-      Eigen::VectorXd corrected = transform_(x, dq);
+      Eigen::VectorXd corrected = transformed(dq);
       if (g.dot(corrected) < 0) {
         raw = std::move(dq);
         dq = std::move(corrected);
@@ -143,7 +152,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     }
     auto step_at = [&](double a) -> Eigen::VectorXd {
       if (raw.size() == 0 || a == 1.0) return x + a * dq;
-      return x + transform_(x, a * raw);
+      return x + transformed(a * raw);
     };
 
     // Line search: start at the largest admissible fraction (CCD), halve until E decreases.

@@ -18,6 +18,9 @@
 // An optional subspace sub-step (set_subspace_step) is tried before every factorisation after the
 // first; the simulator gives the body's six rigid motions (rigid_newton_step), which finishes the
 // rotation that a Newton step on a stiff stressed body leaves behind to second order.
+//
+// The potential's fixed (Dirichlet) dofs never move: the step, its transform and the sub-step are
+// zero there, so the iterate keeps the values the caller gave them.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
