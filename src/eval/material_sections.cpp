@@ -9,21 +9,12 @@
 #include <sstream>
 
 #include "rbaa/error.hpp"
+#include "rbaa/eval/gnuplot.hpp"
 #include "rbaa/io/atomic_file.hpp"
 
 namespace rbaa {
 
 namespace {
-
-// Text for a single-quoted gnuplot string (a quote inside is written twice).
-std::string gnuplot_quoted(const std::string& text) {
-  std::string q;
-  for (char c : text) {
-    q += c;
-    if (c == '\'') q += '\'';
-  }
-  return q;
-}
 
 // A plane's offset for a panel's title: four significant digits.
 std::string short_number(double x) {
@@ -129,13 +120,7 @@ std::string write_material_sections(const std::string& stem, const std::string& 
     }
     out << "unset multiplot\n";
   });
-  const std::string dir = std::filesystem::path(stem).parent_path().string();
-  const std::string command = "cd '" + (dir.empty() ? std::string(".") : dir) + "' && gnuplot '" +
-                              base + ".gp' >/dev/null 2>&1";
-  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0 || std::system(command.c_str()) != 0) {
-    return "";
-  }
-  return stem + ".png";
+  return render_gnuplot(stem);
 }
 
 }  // namespace rbaa
