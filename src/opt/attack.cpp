@@ -227,12 +227,6 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
 }  // namespace
 
 AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
-  // The object is designed and simulated alone; silently dropping the further bodies would
-  // attack another scene than the one given.
-  if (!scene.bodies.empty()) {
-    throw InputError(scene.source + ": key 'bodies': rbaa attack designs the object in a scene of its own; "
-                     "scenes with further bodies are not supported by it yet");
-  }
   const auto start = std::chrono::steady_clock::now();
   auto stage = [&](const std::string& s) {
     if (options.on_stage) options.on_stage(s);
@@ -244,8 +238,9 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   problem_options.storage = options.storage;
   problem_options.on_stage = stage;
   const AttackProblem problem = build_attack_problem(scene, problem_options);
-  r.attacked_body = problem.body().name;
-  r.scored_body = problem.world.bodies[problem.scored].name;
+  auto name = [&scene](int i) { return i == 0 ? std::string("object") : scene.bodies[i - 1].name; };
+  r.attacked_body = name(problem.attacked);
+  r.scored_body = name(problem.scored);
   r.mesh = problem.body_mesh;
   r.kappa = problem.kappa;
   r.reference_moments = problem.reference_moments;

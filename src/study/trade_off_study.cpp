@@ -587,10 +587,12 @@ void write_pareto_plot(const StudyResult& r, const std::string& dir) {
 }  // namespace
 
 StudyResult run_study(const Scene& scene, const StudyOptions& options) {
-  // The object is designed and simulated alone; silently dropping the further bodies would
-  // attack another scene than the one given.
+  // The study's measures are the object's alone (its final state, the gradient's density over
+  // its mesh, its mesh sweep); silently dropping the further bodies would study another scene
+  // than the one given. The attack problem it builds would take them.
   if (!scene.bodies.empty()) {
-    throw InputError(scene.source + ": key 'bodies': rbaa study designs the object in a scene of its own; "
+    throw InputError(scene.source +
+                     ": key 'bodies': rbaa study measures the object in a scene of its own; "
                      "scenes with further bodies are not supported by it yet");
   }
   if (!(options.reference_time_divisor >= 2)) throw InputError("study: the reference time divisor must be >= 2");

@@ -37,7 +37,7 @@ struct AttackOptions {
 };
 
 struct AttackResult {
-  std::string attacked_body;  ///< the designed body A ("object" or "'name'")
+  std::string attacked_body;  ///< the designed body A ("object" or its bodies[].name)
   std::string scored_body;    ///< the objective's body B
   TetMesh mesh;               ///< A's placed reference mesh (the design's domain)
   double kappa = 0;
