@@ -175,6 +175,79 @@ TEST(AttackProblem, TheObjectiveScoresTheNamedBall) {
   }
 }
 
+// with_body puts a replacement of the attacked ball back in its place (the post-processing's
+// final object without its voids): given the ball itself, it is the problem's own world, and
+// without some of its vertices the reference positions follow vertex_origin.
+TEST(AttackProblem, WithBodyPutsTheAttackedBallBackInItsPlace) {
+  for (const std::string attacked : {"object", "target"}) {
+    AttackProblemOptions o;
+    o.attacked_body = attacked;
+    o.with_gradient = false;
+    const AttackProblem p = build_attack_problem(two_balls({kTargetY}), o);
+    const Body& a = p.body();
+    std::vector<int> identity(a.num_vertices());
+    for (int v = 0; v < a.num_vertices(); ++v) identity[v] = v;
+    const MaterialField mine = p.body_materials(p.reference_materials);
+    const ReplacedWorld same = p.with_body(p.body_mesh, mine, identity);
+    EXPECT_EQ(same.mesh.V, p.world.mesh.V) << attacked;
+    EXPECT_EQ(same.mesh.T, p.world.mesh.T) << attacked;
+    EXPECT_EQ(same.reference_final, p.reference.q.back()) << attacked;
+    EXPECT_EQ(same.q0, p.q0);
+    EXPECT_EQ(same.v0, p.v0);
+    EXPECT_EQ(same.materials.Y, p.reference_materials.Y);
+    EXPECT_EQ(same.objective->evaluate(p.reference, p.reference_materials, nullptr),
+              p.objective->evaluate(p.reference, p.reference_materials, nullptr));
+    EXPECT_EQ(same.gap->gap(p.reference.q.back()), 0.0);
+
+    // The ball without its least used vertex and the elements around it (renumbered as
+    // remove_void_elements does): the reference's final positions of the kept vertices, in the
+    // new order. (The coarse target is a fan: every element uses its centre vertex.)
+    std::vector<int> valence(a.num_vertices(), 0);
+    for (int e = 0; e < p.body_mesh.num_tets(); ++e) {
+      for (int k = 0; k < 4; ++k) ++valence[p.body_mesh.T(e, k)];
+    }
+    const int dropped =
+        static_cast<int>(std::min_element(valence.begin(), valence.end()) - valence.begin());
+    std::vector<int> kept;
+    for (int v = 0; v < a.num_vertices(); ++v) {
+      if (v != dropped) kept.push_back(v);
+    }
+    std::vector<int> slot(a.num_vertices(), -1);
+    for (std::size_t i = 0; i < kept.size(); ++i) slot[kept[i]] = static_cast<int>(i);
+    TetMesh cut;
+    cut.V.resize(kept.size(), 3);
+    for (std::size_t i = 0; i < kept.size(); ++i) cut.V.row(i) = p.body_mesh.V.row(kept[i]);
+    std::vector<int> elements;
+    for (int e = 0; e < p.body_mesh.num_tets(); ++e) {
+      bool uses = false;
+      for (int k = 0; k < 4; ++k) uses = uses || p.body_mesh.T(e, k) == dropped;
+      if (!uses) elements.push_back(e);
+    }
+    cut.T.resize(elements.size(), 4);
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      for (int k = 0; k < 4; ++k) cut.T(i, k) = slot[p.body_mesh.T(elements[i], k)];
+    }
+    const ReplacedWorld smaller =
+        p.with_body(cut, MaterialField::uniform(cut.num_tets(), 1e10, 0.28, 2500), kept);
+    const Body& b = smaller.bodies[p.attacked];
+    EXPECT_EQ(b.num_vertices(), a.num_vertices() - 1);
+    EXPECT_EQ(b.num_elements(), a.num_elements() - valence[dropped]);
+    EXPECT_GT(b.num_elements(), 0);
+    const Eigen::VectorXd& q_ref = p.reference.q.back();
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      ASSERT_EQ(smaller.reference_final.segment<3>(3 * (b.vertex_begin + i)),
+                q_ref.segment<3>(3 * (a.vertex_begin + kept[i])))
+          << attacked << " vertex " << i;
+    }
+    const Body& other = smaller.bodies[1 - p.attacked];
+    const Body& old_other = p.world.bodies[1 - p.attacked];
+    EXPECT_EQ(smaller.reference_final.segment(3 * other.vertex_begin, 3 * other.num_vertices()),
+              q_ref.segment(3 * old_other.vertex_begin, 3 * old_other.num_vertices()));
+    EXPECT_EQ(smaller.materials.Y.segment(other.element_begin, other.num_elements()),
+              p.reference_materials.Y.segment(old_other.element_begin, old_other.num_elements()));
+  }
+}
+
 // The gradient check of the whole problem, per field: the struck ball's final y towards 0 (it
 // moves sideways off the off-centre impact), the design on the striking ball.
 TEST(AttackProblem, TwoBodyDirectedGradientMatchesFiniteDifferencesPerField) {
