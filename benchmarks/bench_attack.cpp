@@ -27,56 +27,45 @@
 #include "rbaa/geometry/smoothing.hpp"
 #include "rbaa/material/design_space.hpp"
 #include "rbaa/opt/attack_loop.hpp"
+#include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/opt/moment_cost.hpp"
-#include "rbaa/scene/scene_mesh.hpp"
-#include "rbaa/scene/scene_world.hpp"
-#include "rbaa/sim/barrier_stiffness.hpp"
-#include "rbaa/sim/simulator.hpp"
 
 namespace {
 
 struct SceneFixture {
   std::string name;
   rbaa::Scene scene;
-  rbaa::TetMesh mesh, centred;
-  rbaa::SimulationSettings settings;
-  std::unique_ptr<rbaa::DesignSpace> design;
-  std::unique_ptr<rbaa::TrajectoryGradientFunction> f;
+  std::unique_ptr<rbaa::AttackProblem> problem;  // mesh, settings, reference run, objective, design
+  rbaa::TetMesh centred;
   std::unique_ptr<rbaa::MomentCostFunction> moments;
   std::unique_ptr<rbaa::GradientSmoother> smoother;
   Eigen::VectorXd theta0;
+  rbaa::TrajectoryGradientFunction* f = nullptr;
+  const rbaa::DesignSpace* design = nullptr;
 };
 
 std::unique_ptr<SceneFixture> make_fixture(const rbaa_bench::Options& o, const std::string& name) {
   auto f = std::make_unique<SceneFixture>();
   f->name = name;
   f->scene = rbaa_bench::load(o, name);
-  const rbaa::Scene& scene = f->scene;
-  f->mesh = rbaa::make_scene_mesh(scene);
-  f->settings = rbaa::simulation_settings(scene, rbaa::scene_barrier_stiffness(scene, f->mesh));
-  const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(f->mesh.V.data(), 3 * f->mesh.num_vertices());
-  const Eigen::VectorXd v0 = rbaa::rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
-  const rbaa::MaterialField reference = rbaa::MaterialField::uniform(
-      f->mesh.num_tets(), scene.reference_Y, scene.reference_nu, scene.reference_rho, 1.0);
-  rbaa::Simulator sim(f->mesh, reference, f->settings);
-  auto objective = rbaa::UndirectedTrajectoryObjective::from_reference(f->mesh, scene.reference_rho,
-                                                                       sim.run(q0, v0).q.back());
-  f->design = std::make_unique<rbaa::DesignSpace>(f->mesh, rbaa::DesignSpaceOptions::from_scene(scene));
-  f->f = std::make_unique<rbaa::TrajectoryGradientFunction>(f->mesh, f->settings, q0, v0, *f->design, objective,
-                                                            rbaa::FactorStorage::kStore);
+  f->problem = std::make_unique<rbaa::AttackProblem>(rbaa::build_attack_problem(f->scene));
+  const rbaa::AttackProblem& p = *f->problem;
+  f->f = p.gradient.get();
+  f->design = p.body_design.get();
+  const rbaa::TetMesh& mesh = p.body_mesh;
   // As run_attack: moments about the reference's centre of mass.
-  const rbaa::Moments ref_moments = rbaa::compute_moments(f->mesh, reference.effective_density());
-  f->centred = f->mesh;
-  f->centred.V.rowwise() -= ref_moments.centre_of_mass().transpose();
+  const rbaa::MaterialField reference = p.body_materials(p.reference_materials);
+  f->centred = mesh;
+  f->centred.V.rowwise() -= p.reference_moments.centre_of_mass().transpose();
   f->moments = std::make_unique<rbaa::MomentCostFunction>(
       f->centred, *f->design, rbaa::compute_moments(f->centred, reference.effective_density()));
   if (f->design->optimises(rbaa::DesignField::kAlpha)) {
-    f->smoother = std::make_unique<rbaa::GradientSmoother>(f->mesh, scene.smoothing_gamma);
+    f->smoother = std::make_unique<rbaa::GradientSmoother>(mesh, f->scene.smoothing_gamma);
   }
   f->theta0 = f->design->initial_theta(true);
-  std::printf("%s: %d vertices, %d tets, %d dofs, %d steps of %.4g s, %d design variables\n", name.c_str(),
-              f->mesh.num_vertices(), f->mesh.num_tets(), 3 * f->mesh.num_vertices(), f->settings.num_steps,
-              f->settings.time_step, static_cast<int>(f->design->size()));
+  std::printf("%s: %d vertices, %d tets, %d dofs, %d steps of %.4g s, %d design variables\n",
+              name.c_str(), mesh.num_vertices(), mesh.num_tets(), 3 * mesh.num_vertices(),
+              p.settings.num_steps, p.settings.time_step, static_cast<int>(f->design->size()));
   return f;
 }
 

@@ -22,18 +22,13 @@
 
 #include "bench_common.hpp"
 #include "rbaa/diff/trajectory_gradient.hpp"
-#include "rbaa/material/design_space.hpp"
-#include "rbaa/scene/scene_mesh.hpp"
-#include "rbaa/scene/scene_world.hpp"
-#include "rbaa/sim/barrier_stiffness.hpp"
-#include "rbaa/sim/simulator.hpp"
+#include "rbaa/opt/attack_problem.hpp"
 
 namespace {
 
 struct SceneFixture {
   std::string name;
-  rbaa::TetMesh mesh;
-  rbaa::SimulationSettings settings;
+  std::unique_ptr<rbaa::AttackProblem> problem;  // mesh, settings, reference run, objective, design
   Eigen::VectorXd theta;
   std::unique_ptr<rbaa::TrajectoryGradientFunction> stored, rebuilt;
 };
@@ -44,29 +39,17 @@ std::unique_ptr<SceneFixture> make_fixture(const rbaa_bench::Options& o, const s
   const rbaa::Scene scene = rbaa_bench::load(o, name, overrides);
   auto f = std::make_unique<SceneFixture>();
   f->name = name;
-  f->mesh = rbaa::make_scene_mesh(scene);
-  const double kappa = rbaa::scene_barrier_stiffness(scene, f->mesh);
-  f->settings = rbaa::simulation_settings(scene, kappa);
-  const Eigen::VectorXd q0 =
-      Eigen::Map<const Eigen::VectorXd>(f->mesh.V.data(), 3 * f->mesh.num_vertices());
-  const Eigen::VectorXd v0 =
-      rbaa::rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
-  rbaa::Simulator reference(f->mesh,
-                            rbaa::MaterialField::uniform(f->mesh.num_tets(), scene.reference_Y,
-                                                         scene.reference_nu, scene.reference_rho),
-                            f->settings);
-  const rbaa::Trajectory ref = reference.run(q0, v0);
-  auto objective = rbaa::UndirectedTrajectoryObjective::from_reference(f->mesh, scene.reference_rho,
-                                                                       ref.q.back());
-  const rbaa::DesignSpace design(f->mesh, rbaa::DesignSpaceOptions::from_scene(scene));
-  f->theta = design.initial_theta(true);
-  f->stored = std::make_unique<rbaa::TrajectoryGradientFunction>(
-      f->mesh, f->settings, q0, v0, design, objective, rbaa::FactorStorage::kStore);
-  f->rebuilt = std::make_unique<rbaa::TrajectoryGradientFunction>(
-      f->mesh, f->settings, q0, v0, design, objective, rbaa::FactorStorage::kRebuild);
+  rbaa::AttackProblemOptions options;
+  options.with_gradient = false;
+  f->problem = std::make_unique<rbaa::AttackProblem>(rbaa::build_attack_problem(scene, options));
+  const rbaa::AttackProblem& p = *f->problem;
+  f->theta = p.design->initial_theta(true);
+  f->stored = p.make_gradient(rbaa::FactorStorage::kStore);
+  f->rebuilt = p.make_gradient(rbaa::FactorStorage::kRebuild);
+  const rbaa::TetMesh& mesh = p.world.mesh;
   std::printf("%s: %d vertices, %d tets, %d dofs, %d steps of %.4g s\n", name.c_str(),
-              f->mesh.num_vertices(), f->mesh.num_tets(), 3 * f->mesh.num_vertices(),
-              f->settings.num_steps, f->settings.time_step);
+              mesh.num_vertices(), mesh.num_tets(), 3 * mesh.num_vertices(), p.settings.num_steps,
+              p.settings.time_step);
   return f;
 }
 

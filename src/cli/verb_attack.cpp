@@ -80,22 +80,43 @@ std::vector<std::string> flags() {
 
 }  // namespace
 
-RBAA_REGISTER_VERB(attack, rbaa::cli::Verb{
-    "attack", "build an adversarial object for a scene (forward + adjoint, Adam, post-processing)",
-    "rbaa attack --config=FILE --out=DIR [--iterations=N] [--resume] [--factor_storage=store|rebuild]\n\n"
-    "Minimises C = -|q_adv(T) - q_ref(T)|^2_Mref / (m0 L^2) + beta |r|^2 over per-element Y, nu,\n"
-    "rho and alpha (the config's attack.fields) with Adam, then rounds the occupancy, joins the\n"
-    "occupied elements into one body, re-fits densities to the reference moments (1e-10) and\n"
-    "re-simulates the final object; with attack.polish_iterations = N > 0 it then runs N Adam\n"
-    "iterations on Y, nu, rho of that solid object (occupancy fixed) and keeps the result if its gap\n"
-    "is larger (never if its re-fit or simulation fails: report.json polish.failed says why).\n"
-    "Progress goes to stderr and DIR/progress.csv (polish: DIR/polish_progress.csv);\n"
-    "DIR/checkpoint.json (polish_checkpoint.json) is written atomically after every iteration\n"
-    "(--resume continues from it if the parsed settings that change the result are the same:\n"
-    "comments, key order, evaluation.*, attack.iterations, attack.polish_iterations and\n"
-    "newton.max_iterations may differ; a mesh file counts by its content). Writes\n"
-    "DIR/adversarial.msh and .vtu (final object, element data Y, nu, rho, alpha), DIR/continuous.msh\n"
-    "and DIR/report.json. A simulation that fails mid-run (Newton) stops the loop at the last design\n"
-    "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate --materials).\n"
-    "DIR/continuous.msh is written before post-processing, so a failed density re-fit loses nothing.",
-    flags(), run_attack_verb});
+RBAA_REGISTER_VERB(
+    attack,
+    rbaa::cli::Verb{
+        "attack",
+        "build an adversarial object for a scene (forward + adjoint, Adam, post-processing)",
+        "rbaa attack --config=FILE --out=DIR [--iterations=N] [--resume] "
+        "[--factor_storage=store|rebuild]\n\n"
+        "Minimises C = -|q_adv(T) - q_ref(T)|^2_Mref / (m0 L^2) + beta |r|^2 over per-element Y, "
+        "nu,\n"
+        "rho and alpha (the config's attack.fields) with Adam; the config's objective key replaces "
+        "the\n"
+        "first term (kind target: a body's final centre of mass towards a value; away: away from "
+        "the\n"
+        "reference run's; on any body, README). In a scene with bodies the attacked body "
+        "(attack.body,\n"
+        "default the object) is designed among them: they keep their materials, its moments alone "
+        "are\n"
+        "matched. It then rounds the occupancy, joins the occupied elements into one body, "
+        "re-fits\n"
+        "densities to the reference moments (1e-10) and re-simulates the final object; with\n"
+        "attack.polish_iterations = N > 0 it then runs N Adam iterations on Y, nu, rho of that "
+        "solid\n"
+        "object (occupancy fixed) and keeps the result if its gap is larger (with an objective "
+        "key: if\n"
+        "its objective is lower; never if its re-fit or simulation fails: report.json "
+        "polish.failed).\n"
+        "Progress goes to stderr and DIR/progress.csv (polish: DIR/polish_progress.csv);\n"
+        "DIR/checkpoint.json (polish_checkpoint.json) is written atomically after every iteration\n"
+        "(--resume continues from it if the parsed settings that change the result are the same:\n"
+        "comments, key order, evaluation.*, attack.iterations, attack.polish_iterations and\n"
+        "newton.max_iterations may differ; a mesh file counts by its content). Writes\n"
+        "DIR/adversarial.msh and .vtu (final object, element data Y, nu, rho, alpha), "
+        "DIR/continuous.msh\n"
+        "and DIR/report.json. A simulation that fails mid-run (Newton) stops the loop at the last "
+        "design\n"
+        "that simulated; the failing one is kept in DIR/failed_design.msh (rbaa simulate "
+        "--materials).\n"
+        "DIR/continuous.msh is written before post-processing, so a failed density re-fit loses "
+        "nothing.",
+        flags(), run_attack_verb});

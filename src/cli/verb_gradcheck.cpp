@@ -10,13 +10,9 @@
 #include "rbaa/cli/scene_flags.hpp"
 #include "rbaa/cli/verb.hpp"
 #include "rbaa/diff/gradient_check.hpp"
-#include "rbaa/diff/trajectory_objective.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/io/materials_io.hpp"
-#include "rbaa/scene/scene_mesh.hpp"
-#include "rbaa/scene/scene_world.hpp"
-#include "rbaa/sim/barrier_stiffness.hpp"
-#include "rbaa/sim/simulator.hpp"
+#include "rbaa/opt/attack_problem.hpp"
 
 DECLARE_string(materials);
 DEFINE_string(fields, "", "design fields to check, comma separated from Y,nu,rho,alpha (default: the "
@@ -33,8 +29,10 @@ DEFINE_double(tangent_tolerance, 1e-10, "largest tangent-vs-adjoint relative err
 DEFINE_double(tangent_noise_factor, 4.0, "a tangent-vs-adjoint error within this many times the "
                                          "tangent's own measured round-off also passes (0: off)");
 DEFINE_uint64(gradcheck_seed, 1, "seed of the random directions");
-DEFINE_string(body, "", "move only this body's materials: object, or a name from the scene's "
-                        "bodies list (default: every body's)");
+DEFINE_string(body, "",
+              "the attacked body, whose elements alone are the design (every other "
+              "body keeps its material): object, or a name from the scene's bodies "
+              "list (default: the config's attack.body, object)");
 
 namespace {
 
@@ -64,51 +62,28 @@ int run_gradcheck() {
   const rbaa::GradientCheckMethod method = rbaa::parse_gradient_check_method(FLAGS_method);
   const rbaa::Scene scene = rbaa::cli::load_scene_from_flags();
   std::fprintf(stderr, "rbaa gradcheck: meshing the reference object of %s\n", scene.source.c_str());
-  const rbaa::TetMesh object_mesh = rbaa::make_scene_mesh(scene);
-  const double kappa = rbaa::scene_barrier_stiffness(scene, object_mesh);
-  // Every body's materials are checked: the scene's further bodies are stacked after the object,
-  // all in the design space (--body restricts the directions to one of them).
-  const rbaa::SceneWorld world = rbaa::make_world(scene, object_mesh);
-  const rbaa::TetMesh& mesh = world.mesh;
-  rbaa::SimulationSettings settings = rbaa::simulation_settings(scene, kappa);
-  settings.bodies = rbaa::simulated_bodies(world);
-  const Eigen::VectorXd q0 =
-      Eigen::Map<const Eigen::VectorXd>(mesh.V.data(), 3 * mesh.num_vertices());
-  const Eigen::VectorXd v0 = rbaa::initial_velocities(q0, world.bodies);
-  int element_begin = 0, element_end = -1;
-  if (!FLAGS_body.empty()) {
-    bool found = false;
-    for (std::size_t b = 0; b < world.bodies.size(); ++b) {
-      const std::string name = b == 0 ? "object" : scene.bodies[b - 1].name;
-      if (name != FLAGS_body) continue;
-      element_begin = world.bodies[b].element_begin;
-      element_end = world.bodies[b].element_end;
-      found = true;
-    }
-    if (!found) throw rbaa::InputError("--body=" + FLAGS_body + ": the scene has no such body");
-  }
-
-  // The undirected objective against the uniform reference's final positions.
-  rbaa::Simulator reference(mesh,
-                            rbaa::MaterialField::uniform(mesh.num_tets(), scene.reference_Y,
-                                                         scene.reference_nu, scene.reference_rho),
-                            settings, scene.source + " (reference material)");
-  const rbaa::Trajectory ref = reference.run(q0, v0);
-  auto objective =
-      rbaa::UndirectedTrajectoryObjective::from_reference(mesh, scene.reference_rho, ref.q.back());
-
-  rbaa::DesignSpaceOptions options = rbaa::DesignSpaceOptions::from_scene(scene);
-  if (!FLAGS_fields.empty()) options.fields = parse_fields(FLAGS_fields);
-  rbaa::DesignSpace design(mesh, options);
+  // The scene's attack problem: its objective (default: the attacked body's undirected term),
+  // the design on the attacked body (--body, default attack.body), every other body fixed.
+  rbaa::AttackProblemOptions problem_options;
+  problem_options.attacked_body = FLAGS_body;
+  if (!FLAGS_fields.empty()) problem_options.fields = parse_fields(FLAGS_fields);
+  problem_options.with_gradient = false;  // built below, after --materials
+  rbaa::AttackProblem problem = rbaa::build_attack_problem(scene, problem_options);
+  const rbaa::TetMesh& mesh = problem.world.mesh;
+  const rbaa::SimulationSettings& settings = problem.settings;
+  const double kappa = problem.kappa;
+  rbaa::DesignSpace& design = *problem.design;
+  const rbaa::DesignSpaceOptions& options = design.options();
   Eigen::VectorXd theta = design.initial_theta(true);
   if (!FLAGS_materials.empty()) {
     // Every field of the given design, checked or not, keeps its values.
-    const rbaa::MaterialField given = world.materials(
-        rbaa::read_materials(FLAGS_materials, object_mesh.num_tets()), FLAGS_materials);
+    const rbaa::MaterialField given = problem.world_materials(
+        rbaa::read_materials(FLAGS_materials, problem.body_mesh.num_tets()), FLAGS_materials);
     design.hold_fixed_fields(given);
     theta = design.to_theta(given);
   }
-  rbaa::TrajectoryGradientFunction f(mesh, settings, q0, v0, design, objective, storage);
+  const std::unique_ptr<rbaa::TrajectoryGradientFunction> gradient = problem.make_gradient(storage);
+  rbaa::TrajectoryGradientFunction& f = *gradient;
 
   std::string names;
   for (rbaa::DesignField fld : options.fields) {
@@ -120,6 +95,12 @@ int run_gradcheck() {
               settings.integrator == rbaa::Integrator::kBdf2 ? "BDF-2" : "BDF-1", kappa,
               names.c_str(), FLAGS_fd_space.c_str(), rbaa::gradient_check_method_name(method),
               FLAGS_fd_step, rbaa::factor_storage_name(storage));
+  if (problem.several_bodies() || scene.objective.kind != rbaa::ObjectiveSpec::Kind::kUndirected) {
+    std::printf("design on body %s (%d of %d tets), objective %s on body %s\n",
+                problem.body().name.c_str(), problem.body().num_elements(), mesh.num_tets(),
+                rbaa::objective_kind_name(scene.objective.kind),
+                problem.world.bodies[problem.scored].name.c_str());
+  }
   std::fflush(stdout);
 
   rbaa::GradientCheckOptions check;
@@ -128,8 +109,6 @@ int run_gradcheck() {
   check.step = FLAGS_fd_step;
   check.seed = FLAGS_gradcheck_seed;
   check.material_space = FLAGS_fd_space == "material";
-  check.element_begin = element_begin;
-  check.element_end = element_end;
   check.fd_tolerance = FLAGS_gradcheck_tolerance;
   check.tangent_tolerance = FLAGS_tangent_tolerance;
   check.tangent_noise_factor = FLAGS_tangent_noise_factor;
@@ -195,34 +174,53 @@ std::vector<std::string> flags() {
   std::vector<std::string> f = rbaa::cli::scene_flag_names();
   f.insert(f.end(), {"fields", "directions", "fd_step", "fd_space", "factor_storage",
                      "gradcheck_tolerance", "gradcheck_seed", "materials", "method",
-                     "tangent_tolerance", "tangent_noise_factor"});
+                     "tangent_tolerance", "tangent_noise_factor", "body"});
   return f;
 }
 
 }  // namespace
 
-RBAA_REGISTER_VERB(gradcheck, rbaa::cli::Verb{
-    "gradcheck", "check the adjoint gradient of a scene (finite differences, tangent-linear)",
-    "rbaa gradcheck --config=FILE [--method=fd|tangent|both] [--fields=Y,nu,rho,alpha]\n"
-    "               [--directions=N] [--materials=FILE] [--set=...]\n\n"
-    "Simulates the scene with the reference material (kappa frozen from it), builds the undirected\n"
-    "trajectory objective -||q(T) - q_ref(T)||^2_Mref / (m0_ref L^2) and compares its adjoint\n"
-    "gradient at the attack's perturbed starting design (or every field of --materials) along\n"
-    "random unit directions with\n"
-    "  fd:      Richardson-extrapolated central differences (PASS at --gradcheck_tolerance). On\n"
-    "           stiff scenes Y and nu move the objective by ~1e-7 relative, the size of Newton's\n"
-    "           noise: a failing direction is re-measured at 4x the step, and when the adjoint\n"
-    "           lies within twice the two estimates' difference for every failing direction the\n"
-    "           verdict is INCONCLUSIVE (exit 2), not FAIL;\n"
-    "  tangent: forward-mode sensitivities through the same converged per-step linearisation\n"
-    "           (exact Hessians factorised afresh, BDF and start-up history, contact), which must\n"
-    "           agree with the adjoint to round-off on any scene (PASS at --tangent_tolerance on\n"
-    "           the dot-product test's normwise error |tangent - adjoint| / max(|gradient| |d|,\n"
-    "           sum_k |dC/dq_k| |dq_k|), or within --tangent_noise_factor times the tangent's own\n"
-    "           round-off measured by splitting d into two random parts, if larger (the cube's\n"
-    "           150 stiff steps reach 1e-9); the pointwise error, relative to\n"
-    "           the derivative itself, is printed beside it);\n"
-    "  both:    the two.\n"
-    "Prints one line per direction and method and a PASS/FAIL line per method; exits 1 on FAIL.\n"
-    "Fast: --set='mesh.target_tets=300'.",
-    flags(), run_gradcheck});
+RBAA_REGISTER_VERB(
+    gradcheck,
+    rbaa::cli::Verb{
+        "gradcheck", "check the adjoint gradient of a scene (finite differences, tangent-linear)",
+        "rbaa gradcheck --config=FILE [--method=fd|tangent|both] [--fields=Y,nu,rho,alpha]\n"
+        "               [--directions=N] [--materials=FILE] [--body=NAME] [--set=...]\n\n"
+        "Builds the scene's attack problem as rbaa attack does: simulates the scene with the "
+        "reference\n"
+        "material (kappa frozen from it), builds the config's objective (default: the undirected\n"
+        "trajectory term -||q(T) - q_ref(T)||^2_Mref / (m0_ref L^2) of the attacked body; "
+        "objective:\n"
+        "{body, kind: target|away, ...} scores any body, README) with the design on the attacked "
+        "body\n"
+        "(--body, default attack.body; the other bodies keep their materials), and compares the\n"
+        "adjoint gradient at the attack's perturbed starting design (or every field of "
+        "--materials,\n"
+        "the attacked body's) along random unit directions with\n"
+        "  fd:      Richardson-extrapolated central differences (PASS at --gradcheck_tolerance). "
+        "On\n"
+        "           stiff scenes Y and nu move the objective by ~1e-7 relative, the size of "
+        "Newton's\n"
+        "           noise: a failing direction is re-measured at 4x the step, and when the "
+        "adjoint\n"
+        "           lies within twice the two estimates' difference for every failing direction "
+        "the\n"
+        "           verdict is INCONCLUSIVE (exit 2), not FAIL;\n"
+        "  tangent: forward-mode sensitivities through the same converged per-step linearisation\n"
+        "           (exact Hessians factorised afresh, BDF and start-up history, contact), which "
+        "must\n"
+        "           agree with the adjoint to round-off on any scene (PASS at --tangent_tolerance "
+        "on\n"
+        "           the dot-product test's normwise error |tangent - adjoint| / max(|gradient| "
+        "|d|,\n"
+        "           sum_k |dC/dq_k| |dq_k|), or within --tangent_noise_factor times the tangent's "
+        "own\n"
+        "           round-off measured by splitting d into two random parts, if larger (the "
+        "cube's\n"
+        "           150 stiff steps reach 1e-9); the pointwise error, relative to\n"
+        "           the derivative itself, is printed beside it);\n"
+        "  both:    the two.\n"
+        "Prints one line per direction and method and a PASS/FAIL line per method; exits 1 on "
+        "FAIL.\n"
+        "Fast: --set='mesh.target_tets=300'.",
+        flags(), run_gradcheck});

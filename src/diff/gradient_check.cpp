@@ -22,15 +22,15 @@ Eigen::VectorXd random_unit(int n, std::mt19937_64& rng) {
   return d / d.norm();
 }
 
-// A material field as one vector in the design's fields: per field #T entries (alpha: interior
-// only), each scaled by its range so that one unit is the whole range.
+// A material field as one vector in the design's fields: per field one entry per designed element
+// (alpha: interior only), each scaled by its range so that one unit is the whole range.
 struct MaterialCoordinates {
   const DesignSpace& ds;
   int size() const {
     int n = 0;
     for (int f = 0; f < 4; ++f) {
       const auto field = static_cast<DesignField>(f);
-      if (ds.optimises(field)) n += field == DesignField::kAlpha ? ds.num_interior() : ds.num_tets();
+      if (ds.optimises(field)) n += static_cast<int>(ds.elements(field).size());
     }
     return n;
   }
@@ -40,11 +40,7 @@ struct MaterialCoordinates {
     auto field_move = [&](DesignField f, Eigen::VectorXd& x) {
       if (!ds.optimises(f)) return;
       const double range = ds.map(f).hi() - ds.map(f).lo();
-      if (f == DesignField::kAlpha) {
-        for (int i : ds.interior()) x[i] += s * range * d[o++];
-      } else {
-        for (int e = 0; e < ds.num_tets(); ++e) x[e] += s * range * d[o++];
-      }
+      for (int e : ds.elements(f)) x[e] += s * range * d[o++];
     };
     field_move(DesignField::kY, m.Y);
     field_move(DesignField::kNu, m.nu);
@@ -60,11 +56,7 @@ struct MaterialCoordinates {
       if (!ds.optimises(f)) return;
       const double range = ds.map(f).hi() - ds.map(f).lo();
       x = Eigen::VectorXd::Zero(ds.num_tets());
-      if (f == DesignField::kAlpha) {
-        for (int i : ds.interior()) x[i] = range * d[o++];
-      } else {
-        for (int e = 0; e < ds.num_tets(); ++e) x[e] = range * d[o++];
-      }
+      for (int e : ds.elements(f)) x[e] = range * d[o++];
     };
     field_direction(DesignField::kY, m.Y);
     field_direction(DesignField::kNu, m.nu);
@@ -81,7 +73,10 @@ struct MaterialCoordinates {
       if (f == DesignField::kAlpha) {
         for (int i : ds.interior()) sum += std::pow(range * x[i], 2);
       } else {
-        sum += std::pow(range, 2) * x.squaredNorm();
+        // Gathered, so that without a mask the sum is x.squaredNorm()'s, bit for bit.
+        Eigen::VectorXd designed(ds.num_designed());
+        for (int i = 0; i < ds.num_designed(); ++i) designed[i] = x[ds.designed()[i]];
+        sum += std::pow(range, 2) * designed.squaredNorm();
       }
     };
     field_norm(DesignField::kY, g.Y);
@@ -96,11 +91,7 @@ struct MaterialCoordinates {
     auto field_dot = [&](DesignField f, const Eigen::VectorXd& x) {
       if (!ds.optimises(f)) return;
       const double range = ds.map(f).hi() - ds.map(f).lo();
-      if (f == DesignField::kAlpha) {
-        for (int i : ds.interior()) sum += range * x[i] * d[o++];
-      } else {
-        for (int e = 0; e < ds.num_tets(); ++e) sum += range * x[e] * d[o++];
-      }
+      for (int e : ds.elements(f)) sum += range * x[e] * d[o++];
     };
     field_dot(DesignField::kY, g.Y);
     field_dot(DesignField::kNu, g.nu);
@@ -119,11 +110,8 @@ MaterialGradient theta_direction(const DesignSpace& ds, const Eigen::VectorXd& t
     if (!ds.optimises(f)) return;
     x = Eigen::VectorXd::Zero(ds.num_tets());
     const int o = ds.offset(f);
-    if (f == DesignField::kAlpha) {
-      for (int i = 0; i < ds.num_interior(); ++i) x[ds.interior()[i]] = dx[o + i];
-    } else {
-      for (int e = 0; e < ds.num_tets(); ++e) x[e] = dx[o + e];
-    }
+    const std::vector<int>& elements = ds.elements(f);
+    for (std::size_t i = 0; i < elements.size(); ++i) x[elements[i]] = dx[o + i];
   };
   field_direction(DesignField::kY, m.Y);
   field_direction(DesignField::kNu, m.nu);
@@ -190,7 +178,8 @@ GradientCheckResult check_gradient(TrajectoryGradientFunction& f, const Eigen::V
   const bool fd = options.method != GradientCheckMethod::kTangent;
   const bool tangent = options.method != GradientCheckMethod::kFiniteDifference;
   // Coordinates of elements outside [element_begin, element_end) stay out of the directions (the
-  // same layout in theta and in material space: per field #T entries, alpha interior only).
+  // same layout in theta and in material space: per field the designed elements, alpha interior
+  // only).
   const int lo = std::max(options.element_begin, 0);
   const int hi = options.element_end < 0 ? ds.num_tets() : std::min(options.element_end, ds.num_tets());
   if (!(lo < hi)) throw InputError("gradient check: no element to move in the chosen range");
@@ -200,11 +189,7 @@ GradientCheckResult check_gradient(TrajectoryGradientFunction& f, const Eigen::V
     for (int f = 0; f < 4; ++f) {
       const auto field = static_cast<DesignField>(f);
       if (!ds.optimises(field)) continue;
-      if (field == DesignField::kAlpha) {
-        for (int e : ds.interior()) in_range[o++] = e >= lo && e < hi;
-      } else {
-        for (int e = 0; e < ds.num_tets(); ++e) in_range[o++] = e >= lo && e < hi;
-      }
+      for (int e : ds.elements(field)) in_range[o++] = e >= lo && e < hi;
     }
     if (!(in_range.sum() > 0)) throw InputError("gradient check: no design entry in the chosen elements");
   }

@@ -264,6 +264,14 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
 Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
                     const TetMesh& adversarial_as_given, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options) {
+  // The adversarial object takes the object's place; an attack on another body made a design
+  // for that body, which this evaluation would put in the wrong place.
+  if (scene_in.attack_body != "object") {
+    throw InputError(scene_in.source +
+                     ": key 'attack.body': rbaa evaluate puts the adversarial "
+                     "object in the object's place; evaluating an attack on body '" +
+                     scene_in.attack_body + "' is not supported yet");
+  }
   validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
                           "adversarial materials");
   check_same_surface(reference_mesh, adversarial_as_given, "adversarial mesh");

@@ -85,8 +85,9 @@ class PortableNormal {
 
 }  // namespace
 
-DesignSpace::DesignSpace(const TetMesh& mesh, const DesignSpaceOptions& options)
-    : options_(options), num_tets_(mesh.num_tets()) {
+DesignSpace::DesignSpace(const TetMesh& mesh, const DesignSpaceOptions& options,
+                         std::vector<char> designed)
+    : options_(options), num_tets_(mesh.num_tets()), designed_flag_(std::move(designed)) {
   const DesignSpaceOptions& o = options_;
   maps_[index(DesignField::kY)] = TanhBoxMap(o.Y_min, o.Y_max, "Young's modulus range (Pa)");
   maps_[index(DesignField::kNu)] = TanhBoxMap(o.nu_min, o.nu_max, "Poisson's ratio range");
@@ -110,15 +111,25 @@ DesignSpace::DesignSpace(const TetMesh& mesh, const DesignSpaceOptions& options)
     chosen[index(f)] = true;
   }
 
+  if (designed_flag_.empty()) designed_flag_.assign(num_tets_, 1);
+  if (static_cast<int>(designed_flag_.size()) != num_tets_) {
+    std::ostringstream msg;
+    msg << "design space: the element mask has " << designed_flag_.size() << " entries, the mesh "
+        << num_tets_ << " elements";
+    throw InputError(msg.str());
+  }
   boundary_ = boundary_elements(mesh, o.boundary_by_vertex);
   for (int e = 0; e < num_tets_; ++e) {
+    if (!designed_flag_[e]) continue;
+    designed_.push_back(e);
     if (!boundary_[e]) interior_.push_back(e);
   }
+  if (designed_.empty()) throw InputError("design space: the element mask selects no element");
 
   for (int f = 0; f < 4; ++f) {
     if (!chosen[f]) continue;
     offset_[f] = size_;
-    block_size_[f] = (f == index(DesignField::kAlpha)) ? num_interior() : num_tets_;
+    block_size_[f] = (f == index(DesignField::kAlpha)) ? num_interior() : num_designed();
     size_ += block_size_[f];
   }
 
@@ -163,13 +174,28 @@ Eigen::VectorXd DesignSpace::initial_theta(bool perturb) const {
   return theta;
 }
 
-void DesignSpace::hold_fixed_fields(const MaterialField& field) {
+void DesignSpace::check_field_size(const MaterialField& field) const {
   if (field.size() != num_tets_ || field.nu.size() != num_tets_ || field.rho.size() != num_tets_ ||
       field.alpha.size() != num_tets_) {
     std::ostringstream msg;
     msg << "material field does not have " << num_tets_ << " entries per array";
     throw InputError(msg.str());
   }
+}
+
+void DesignSpace::hold_fixed_elements(const MaterialField& field) {
+  check_field_size(field);
+  for (int e = 0; e < num_tets_; ++e) {
+    if (designed_flag_[e]) continue;
+    initial_.Y[e] = field.Y[e];
+    initial_.nu[e] = field.nu[e];
+    initial_.rho[e] = field.rho[e];
+    initial_.alpha[e] = field.alpha[e];
+  }
+}
+
+void DesignSpace::hold_fixed_fields(const MaterialField& field) {
+  check_field_size(field);
   if (!optimises(DesignField::kY)) initial_.Y = field.Y;
   if (!optimises(DesignField::kNu)) initial_.nu = field.nu;
   if (!optimises(DesignField::kRho)) initial_.rho = field.rho;
@@ -183,7 +209,7 @@ MaterialField DesignSpace::to_material(const Eigen::VectorXd& theta) const {
     if (!optimises(f)) return;
     const TanhBoxMap& bm = map(f);
     const int o = offset(f);
-    for (int e = 0; e < num_tets_; ++e) out[e] = bm.value(theta[o + e]);
+    for (int i = 0; i < num_designed(); ++i) out[designed_[i]] = bm.value(theta[o + i]);
   };
   fill(DesignField::kY, m.Y);
   fill(DesignField::kNu, m.nu);
@@ -197,18 +223,14 @@ MaterialField DesignSpace::to_material(const Eigen::VectorXd& theta) const {
 }
 
 Eigen::VectorXd DesignSpace::to_theta(const MaterialField& field) const {
-  if (field.size() != num_tets_ || field.nu.size() != num_tets_ || field.rho.size() != num_tets_ ||
-      field.alpha.size() != num_tets_) {
-    std::ostringstream msg;
-    msg << "material field does not have " << num_tets_ << " entries per array";
-    throw InputError(msg.str());
-  }
+  check_field_size(field);
   Eigen::VectorXd theta(size_);
   auto take = [&](DesignField f, const Eigen::VectorXd& values) {
     if (!optimises(f)) return;
     const int o = offset(f);
-    for (int e = 0; e < num_tets_; ++e) {
-      theta[o + e] = map(f).inverse(
+    for (int i = 0; i < num_designed(); ++i) {
+      const int e = designed_[i];
+      theta[o + i] = map(f).inverse(
           values[e], std::string(design_field_name(f)) + " of element " + std::to_string(e));
     }
   };
@@ -252,7 +274,9 @@ Eigen::VectorXd DesignSpace::chain_gradient(const Eigen::VectorXd& theta,
   auto per_element = [&](DesignField f, const Eigen::VectorXd& v) {
     if (!check_size(v, f)) return;
     const int o = offset(f);
-    for (int e = 0; e < num_tets_; ++e) out[o + e] = v[e] * map(f).derivative(theta[o + e]);
+    for (int i = 0; i < num_designed(); ++i) {
+      out[o + i] = v[designed_[i]] * map(f).derivative(theta[o + i]);
+    }
   };
   per_element(DesignField::kY, g.Y);
   per_element(DesignField::kNu, g.nu);

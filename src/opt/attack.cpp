@@ -1,11 +1,10 @@
 #include "rbaa/opt/attack.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "rbaa/diff/trajectory_gradient.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
@@ -15,10 +14,8 @@
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/io/vtu.hpp"
+#include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/opt/density_refit.hpp"
-#include "rbaa/scene/scene_mesh.hpp"
-#include "rbaa/scene/scene_world.hpp"
-#include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
@@ -28,10 +25,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-Eigen::VectorXd positions(const TetMesh& mesh) {
-  return Eigen::Map<const Eigen::VectorXd>(mesh.V.data(), 3 * mesh.num_vertices());
 }
 
 double max_normalized_residual(const Moments& m, const Moments& reference) {
@@ -60,15 +53,20 @@ AttackLoopOptions attack_loop_options(const Scene& scene, const AttackOptions& o
 }
 
 // The loop's trajectory term: C_traj and its gradient from f, plus the gaps a progress row reports
-// (the objective's mass-weighted gap and the centre-of-mass distance to the reference's).
-TrajectoryTerm trajectory_term(TrajectoryGradientFunction& f, const UndirectedTrajectoryObjective& objective,
-                               const TetMesh& mesh, const Eigen::Vector3d& ref_com) {
-  return [&f, &objective, &mesh, ref_com](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+// (the attacked body's mass-weighted gap and centre-of-mass distance to the reference's).
+// `scored_com`, if given, receives the scored body's final centre of mass of every evaluation.
+TrajectoryTerm trajectory_term(
+    TrajectoryGradientFunction& f,
+    std::function<BodyFinalState(const Eigen::VectorXd&, const MaterialField&)> final_state,
+    Eigen::Vector3d* scored_com = nullptr) {
+  return [&f, final_state, scored_com](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
     TrajectoryTermValue v;
     v.value = f.evaluate(theta, gradient);
     const TrajectoryEvaluation& e = f.last();
-    v.gap = objective.gap(e.trajectory.q.back());
-    v.com_gap = (centre_of_mass(e.trajectory.q.back(), vertex_masses(mesh, e.materials.effective_density())) - ref_com).norm();
+    const BodyFinalState s = final_state(e.trajectory.q.back(), e.materials);
+    v.gap = s.gap;
+    v.com_gap = s.com_gap;
+    if (scored_com != nullptr) *scored_com = s.scored_com;
     v.forward_seconds = e.forward_seconds;
     v.adjoint_seconds = e.adjoint_seconds + e.objective_seconds;
     return v;
@@ -78,24 +76,23 @@ TrajectoryTerm trajectory_term(TrajectoryGradientFunction& f, const UndirectedTr
 struct FinalGap {
   double gap = 0;      ///< m
   double com_gap = 0;  ///< m
+  Eigen::Vector3d scored_com = Eigen::Vector3d::Zero();  ///< the scored body's at T (m)
+  double objective = 0;                                  ///< the objective's trajectory term
 };
 
-Eigen::VectorXd gather_vertices(const Eigen::VectorXd& q, const std::vector<int>& vertices) {
-  Eigen::VectorXd out(3 * vertices.size());
-  for (size_t i = 0; i < vertices.size(); ++i) out.segment<3>(3 * i) = q.segment<3>(3 * vertices[i]);
-  return out;
-}
-
-// The object without its voids, simulated from the scene's initial state; its gap is measured on
-// the material points it shares with the reference (the kept vertices), mass-weighted by the
-// reference: d^T Mref d over the kept vertices, element by element, (m_e / 20)(1 + delta_ab) d_a . d_b.
-FinalGap measure_solid(const TetMesh& mesh, const Eigen::VectorXd& reference_element_masses,
-                       const Eigen::VectorXd& q_ref, const Eigen::Vector3d& ref_com, const SolidObject& solid,
-                       const SimulationSettings& settings, const Scene& scene) {
-  Simulator sim(solid.mesh, solid.materials, settings);
-  const Eigen::VectorXd q0 = positions(solid.mesh);
-  const Trajectory run = sim.run(q0, rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity));
-  const Eigen::VectorXd d = run.q.back() - gather_vertices(q_ref, solid.vertex_origin);
+// The object without its voids, simulated from the scene's initial state with the other bodies;
+// its gap is measured on the material points it shares with the reference (the kept vertices),
+// mass-weighted by the reference: d^T Mref d over the kept vertices, element by element,
+// (m_e / 20)(1 + delta_ab) d_a . d_b.
+FinalGap measure_solid(const AttackProblem& problem,
+                       const Eigen::VectorXd& reference_element_masses, const SolidObject& solid) {
+  const TetMesh& mesh = problem.body_mesh;
+  const ReplacedWorld world = problem.with_body(solid.mesh, solid.materials, solid.vertex_origin);
+  const Body& body = world.bodies[problem.attacked];
+  Simulator sim(world.mesh, world.materials, world.settings);
+  const Trajectory run = sim.run(world.q0, world.v0);
+  const Eigen::VectorXd d = (run.q.back() - world.reference_final)
+                                .segment(3 * body.vertex_begin, 3 * body.num_vertices());
   std::vector<int> slot(mesh.num_vertices(), -1);
   for (size_t i = 0; i < solid.vertex_origin.size(); ++i) slot[solid.vertex_origin[i]] = static_cast<int>(i);
   double weighted = 0, kept_mass = 0;
@@ -114,7 +111,15 @@ FinalGap measure_solid(const TetMesh& mesh, const Eigen::VectorXd& reference_ele
   }
   FinalGap g;
   g.gap = std::sqrt(std::max(0.0, weighted) / kept_mass);
-  g.com_gap = (centre_of_mass(run.q.back(), sim.vertex_masses()) - ref_com).norm();
+  // The attacked body's vertex masses only (all of them for a single body).
+  Eigen::VectorXd masses = sim.vertex_masses();
+  for (int v = 0; v < masses.size(); ++v) {
+    if (v < body.vertex_begin || v >= body.vertex_end) masses[v] = 0.0;
+  }
+  g.com_gap = (centre_of_mass(run.q.back(), masses) - problem.reference_com).norm();
+  g.scored_com = body_centre_of_mass(run.q.back(), world.mesh, world.materials.effective_density(),
+                                     world.bodies[problem.scored]);
+  g.objective = world.objective->evaluate(run, world.materials, nullptr);
   return g;
 }
 
@@ -137,10 +142,11 @@ MaterialField inside_bounds(MaterialField m, const DesignSpace& design) {
 // iterations on Y, nu and rho of the solid object, moments projected as in the main loop, recover
 // what these fields can. The polished object replaces the post-processed one only if its gap is
 // larger.
-void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, const SimulationSettings& settings,
-            const Eigen::VectorXd& q_ref, const Eigen::Vector3d& ref_com,
-            const Eigen::VectorXd& reference_element_masses, const Moments& centred_reference_moments,
+void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& options,
+            const Eigen::VectorXd& reference_element_masses,
+            const Moments& centred_reference_moments,
             const std::function<void(const std::string&)>& stage) {
+  const Scene& scene = problem.scene;
   DesignSpaceOptions po = DesignSpaceOptions::from_scene(scene);
   po.fields.erase(std::remove(po.fields.begin(), po.fields.end(), DesignField::kAlpha), po.fields.end());
   if (po.fields.empty()) return;
@@ -149,15 +155,28 @@ void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, c
   const DesignSpace design(solid.mesh, po);
   const Eigen::VectorXd theta0 = design.to_theta(inside_bounds(solid.materials, design));
 
-  auto objective = UndirectedTrajectoryObjective::from_reference(solid.mesh, scene.reference_rho,
-                                                                 gather_vertices(q_ref, solid.vertex_origin));
-  const Eigen::VectorXd q0 = positions(solid.mesh);
-  const Eigen::VectorXd v0 = rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
-  TrajectoryGradientFunction f(solid.mesh, settings, q0, v0, design, objective, options.storage);
+  // The solid object in the world (alone, or among the scene's other bodies), the design masked
+  // to it: the same layout as `design`.
+  const ReplacedWorld world = problem.with_body(solid.mesh, solid.materials, solid.vertex_origin);
+  const Body& body = world.bodies[problem.attacked];
+  std::vector<char> mask(world.mesh.num_tets(), 0);
+  for (int e = body.element_begin; e < body.element_end; ++e) mask[e] = 1;
+  DesignSpace world_design(world.mesh, po, std::move(mask));
+  world_design.hold_fixed_elements(world.materials);
+  TrajectoryGradientFunction f(world.mesh, world.settings, world.q0, world.v0, world_design,
+                               world.objective, options.storage);
   TetMesh centred = solid.mesh;
   centred.V.rowwise() -= r.reference_moments.centre_of_mass().transpose();
   const MomentCostFunction moments(centred, design, centred_reference_moments);
-  const TrajectoryTerm term = trajectory_term(f, *objective, solid.mesh, ref_com);
+  const TrajectoryTerm term = trajectory_term(f, [&world, &body, &problem](const Eigen::VectorXd& q,
+                                                                           const MaterialField& m) {
+    BodyFinalState s;
+    s.gap = world.gap->gap(q);
+    s.com_gap =
+        (body_centre_of_mass(q, world.mesh, m.effective_density(), body) - problem.reference_com)
+            .norm();
+    return s;
+  });
   AttackLoopOptions loop = attack_loop_options(scene, options, "polish_");
   loop.iterations = scene.polish_iterations;
   stage("polishing Y, nu, rho of the solid object (" + std::to_string(loop.iterations) + " iterations, " +
@@ -176,7 +195,7 @@ void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, c
     polished.materials.rho = refit_density(polished.mesh, polished.materials.alpha, polished.materials.rho,
                                            r.reference_moments, design.map(DesignField::kRho)).rho;
     stage("simulating the polished object");
-    g = measure_solid(r.mesh, reference_element_masses, q_ref, ref_com, polished, settings, scene);
+    g = measure_solid(problem, reference_element_masses, polished);
   } catch (const SolverError& e) {
     // The polish's last design is simulated only here, after its re-fit: if either fails, the
     // post-processed object stays the result instead of the whole attack failing at its end.
@@ -185,7 +204,11 @@ void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, c
     return;
   }
   r.polish_gap = g.gap;
-  r.polish_kept = g.gap > r.gap_post_processed;
+  // The undirected attack wants the larger gap; any other objective its lower value.
+  const bool undirected = problem.scored == problem.attacked &&
+                          scene.objective.kind == ObjectiveSpec::Kind::kUndirected;
+  r.polish_kept =
+      undirected ? g.gap > r.gap_post_processed : g.objective < r.objective_post_processed;
   if (r.polish_kept) {
     for (size_t i = 0; i < polished.element_origin.size(); ++i) {
       const int e = polished.element_origin[i];
@@ -196,43 +219,38 @@ void polish(AttackResult& r, const Scene& scene, const AttackOptions& options, c
     r.post.solid = std::move(polished);
     r.gap_final = g.gap;
     r.com_gap_final = g.com_gap;
+    r.scored_com_final = g.scored_com;
+    r.objective_final_object = g.objective;
   }
 }
 
 }  // namespace
 
 AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
-  // The object is designed and simulated alone; silently dropping the further bodies would
-  // attack another scene than the one given.
-  if (!scene.bodies.empty()) {
-    throw InputError(scene.source + ": key 'bodies': rbaa attack designs the object in a scene of its own; "
-                     "scenes with further bodies are not supported by it yet");
-  }
   const auto start = std::chrono::steady_clock::now();
   auto stage = [&](const std::string& s) {
     if (options.on_stage) options.on_stage(s);
   };
   AttackResult r;
-  stage("meshing the reference object");
-  r.mesh = make_scene_mesh(scene);
-  r.kappa = scene_barrier_stiffness(scene, r.mesh);
-  const SimulationSettings settings = simulation_settings(scene, r.kappa);
-  const Eigen::VectorXd q0 = positions(r.mesh);
-  const Eigen::VectorXd v0 = rigid_velocities(q0, scene.position, scene.velocity, scene.angular_velocity);
-  const MaterialField reference_materials = MaterialField::uniform(
-      r.mesh.num_tets(), scene.reference_Y, scene.reference_nu, scene.reference_rho, 1.0);
-  r.reference_moments = compute_moments(r.mesh, reference_materials.effective_density());
+  // Mesh, kappa, settings, reference run, objective, design: the attacked body A is designed in
+  // the scene's world (alone, or among its further bodies, which keep their materials).
+  AttackProblemOptions problem_options;
+  problem_options.storage = options.storage;
+  problem_options.on_stage = stage;
+  const AttackProblem problem = build_attack_problem(scene, problem_options);
+  auto name = [&scene](int i) { return i == 0 ? std::string("object") : scene.bodies[i - 1].name; };
+  r.attacked_body = name(problem.attacked);
+  r.scored_body = name(problem.scored);
+  r.mesh = problem.body_mesh;
+  r.kappa = problem.kappa;
+  r.reference_moments = problem.reference_moments;
+  r.scored_com_reference = problem.scored_reference_com;
+  const MaterialField reference_materials = problem.body_materials(problem.reference_materials);
 
-  stage("simulating the reference object");
-  Simulator reference_sim(r.mesh, reference_materials, settings);
-  const Trajectory reference = reference_sim.run(q0, v0);
-  const Eigen::VectorXd& q_ref = reference.q.back();
-  const Eigen::VectorXd ref_masses = vertex_masses(r.mesh, reference_materials.effective_density());
-  const Eigen::Vector3d ref_com = centre_of_mass(q_ref, ref_masses);
-  auto objective = UndirectedTrajectoryObjective::from_reference(r.mesh, scene.reference_rho, q_ref);
-
-  const DesignSpace design(r.mesh, DesignSpaceOptions::from_scene(scene));
-  TrajectoryGradientFunction f(r.mesh, settings, q0, v0, design, objective, options.storage);
+  TrajectoryGradientFunction& f = *problem.gradient;
+  // Moments, smoothing and post-processing work on A's own mesh, in the same layout as the
+  // world's masked design that f maps theta with.
+  const DesignSpace& design = *problem.body_design;
   // The moment term measures moments about the reference's centre of mass: the same zero set as
   // about the origin (an invertible linear map of the 10 moments), but with the object far from the
   // origin (the ball: 3.4 m, L = 0.075 m) the rows about the origin amplify first- and second-moment
@@ -245,7 +263,13 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   std::unique_ptr<GradientSmoother> smoother;
   if (design.optimises(DesignField::kAlpha)) smoother = std::make_unique<GradientSmoother>(r.mesh, scene.smoothing_gamma);
 
-  const TrajectoryTerm term = trajectory_term(f, *objective, r.mesh, ref_com);
+  Eigen::Vector3d scored_com = Eigen::Vector3d::Zero();
+  const TrajectoryTerm term = trajectory_term(
+      f,
+      [&problem](const Eigen::VectorXd& q, const MaterialField& m) {
+        return problem.final_state(q, m);
+      },
+      &scored_com);
 
   const AttackLoopOptions loop = attack_loop_options(scene, options, "");
   const Eigen::VectorXd theta0 = design.initial_theta(true);
@@ -282,6 +306,7 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   }
   r.gap_continuous = final_value.gap;
   r.com_gap_continuous = final_value.com_gap;
+  r.scored_com_continuous = scored_com;
   r.objective_final = final_value.value + moments.penalty(r.loop.theta, scene.beta, nullptr);
   r.continuous = design.to_material(r.loop.theta);
   if (r.loop.failed_theta.size() > 0) r.failed = design.to_material(r.loop.failed_theta);
@@ -303,14 +328,17 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   }
 
   stage("simulating the post-processed object");
-  const FinalGap post_gap = measure_solid(r.mesh, reference_element_masses, q_ref, ref_com, r.post.solid, settings, scene);
+  const FinalGap post_gap = measure_solid(problem, reference_element_masses, r.post.solid);
   r.gap_post_processed = post_gap.gap;
   r.com_gap_post_processed = post_gap.com_gap;
+  r.objective_post_processed = post_gap.objective;
   r.gap_final = post_gap.gap;
   r.com_gap_final = post_gap.com_gap;
+  r.scored_com_final = post_gap.scored_com;
+  r.objective_final_object = post_gap.objective;
 
   if (scene.polish_iterations > 0 && design.optimises(DesignField::kAlpha)) {
-    polish(r, scene, options, settings, q_ref, ref_com, reference_element_masses, centred_reference_moments, stage);
+    polish(r, problem, options, reference_element_masses, centred_reference_moments, stage);
   }
   r.adversarial_moments = compute_moments(r.post.solid.mesh, r.post.solid.materials.effective_density());
   r.max_normalized_residual = max_normalized_residual(r.adversarial_moments, r.reference_moments);
@@ -345,47 +373,98 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
   };
   auto range = [](const Eigen::VectorXd& x) { return nlohmann::json{{"min", x.minCoeff()}, {"max", x.maxCoeff()}}; };
   const auto& refit = r.post.refit;
-  const nlohmann::json report = {
+  nlohmann::json report = {
       {"scene", scene.name},
       {"config", scene.source},
       {"iterations", static_cast<int>(r.loop.progress.size())},
-      {"stopped_early", r.loop.stopped_early.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.loop.stopped_early)},
+      {"stopped_early", r.loop.stopped_early.empty() ? nlohmann::json(nullptr)
+                                                     : nlohmann::json(r.loop.stopped_early)},
       {"kappa", r.kappa},
       {"fields", scene.fields},
-      {"settings", {{"beta", scene.beta}, {"learning_rate", scene.learning_rate}, {"adam_beta1", scene.adam_beta1},
-                    {"adam_beta2", scene.adam_beta2}, {"seed", scene.seed}, {"perturbation", scene.perturbation},
-                    {"alpha0", scene.alpha0}, {"smoothing_gamma", scene.smoothing_gamma},
-                    {"round_threshold", scene.round_threshold}, {"project_moments", scene.project_moments},
-                    {"polish_iterations", scene.polish_iterations},
-                    {"time_step", scene.time_step},
-                    {"duration", scene.duration}}},
-      {"mesh", {{"tets", r.mesh.num_tets()}, {"vertices", r.mesh.num_vertices()},
-                {"final_tets", solid.mesh.num_tets()}, {"final_vertices", solid.mesh.num_vertices()}}},
-      {"moments", {{"reference", to_vec(r.reference_moments)},
-                   {"adversarial", to_vec(r.adversarial_moments)},
-                   {"max_normalized_residual", r.max_normalized_residual},
-                   {"continuous_max_normalized_residual", r.continuous_max_residual}}},
-      {"gap", {{"initial", r.gap_initial}, {"continuous", r.gap_continuous}, {"final", r.gap_final},
-               {"com_initial", r.com_gap_initial}, {"com_continuous", r.com_gap_continuous},
-               {"com_final", r.com_gap_final}, {"post_processed", r.gap_post_processed},
-               {"com_post_processed", r.com_gap_post_processed}}},
-      {"polish", {{"iterations", static_cast<int>(r.polish.progress.size())},
-                  {"gap", r.polish.progress.empty() || !r.polish_failure.empty() ? nlohmann::json(nullptr)
-                                                                       : nlohmann::json(r.polish_gap)},
-                  {"kept", r.polish_kept},
-                  {"failed", r.polish_failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.polish_failure)},
-                  {"stopped_early", r.polish.stopped_early.empty() ? nlohmann::json(nullptr)
-                                                                   : nlohmann::json(r.polish.stopped_early)}}},
-      {"objective", {{"initial", r.objective_initial}, {"final", r.objective_final}}},
-      {"occupancy", {{"void_fraction", r.post.void_fraction},
-                     {"components", {{"before", r.post.connectivity.components_before},
-                                     {"after", r.post.connectivity.components_after}}},
-                     {"elements_added", r.post.connectivity.elements_added}}},
-      {"refit", {{"max_residual_before", r.post.max_residual_before_refit},
-                 {"max_residual_after", refit.max_residual}, {"iterations", refit.iterations}}},
-      {"materials", {{"Y", range(solid.materials.Y)}, {"nu", range(solid.materials.nu)},
-                     {"rho", range(solid.materials.rho)}, {"alpha", range(solid.materials.alpha)}}},
-      {"timing", {{"forward_s", r.forward_seconds}, {"adjoint_s", r.adjoint_seconds}, {"total_s", r.total_seconds}}}};
+      {"settings",
+       {{"beta", scene.beta},
+        {"learning_rate", scene.learning_rate},
+        {"adam_beta1", scene.adam_beta1},
+        {"adam_beta2", scene.adam_beta2},
+        {"seed", scene.seed},
+        {"perturbation", scene.perturbation},
+        {"alpha0", scene.alpha0},
+        {"smoothing_gamma", scene.smoothing_gamma},
+        {"round_threshold", scene.round_threshold},
+        {"project_moments", scene.project_moments},
+        {"polish_iterations", scene.polish_iterations},
+        {"time_step", scene.time_step},
+        {"duration", scene.duration}}},
+      {"mesh",
+       {{"tets", r.mesh.num_tets()},
+        {"vertices", r.mesh.num_vertices()},
+        {"final_tets", solid.mesh.num_tets()},
+        {"final_vertices", solid.mesh.num_vertices()}}},
+      {"moments",
+       {{"reference", to_vec(r.reference_moments)},
+        {"adversarial", to_vec(r.adversarial_moments)},
+        {"max_normalized_residual", r.max_normalized_residual},
+        {"continuous_max_normalized_residual", r.continuous_max_residual}}},
+      {"gap",
+       {{"initial", r.gap_initial},
+        {"continuous", r.gap_continuous},
+        {"final", r.gap_final},
+        {"com_initial", r.com_gap_initial},
+        {"com_continuous", r.com_gap_continuous},
+        {"com_final", r.com_gap_final},
+        {"post_processed", r.gap_post_processed},
+        {"com_post_processed", r.com_gap_post_processed}}},
+      {"polish",
+       {{"iterations", static_cast<int>(r.polish.progress.size())},
+        {"gap", r.polish.progress.empty() || !r.polish_failure.empty()
+                    ? nlohmann::json(nullptr)
+                    : nlohmann::json(r.polish_gap)},
+        {"kept", r.polish_kept},
+        {"failed",
+         r.polish_failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.polish_failure)},
+        {"stopped_early", r.polish.stopped_early.empty()
+                              ? nlohmann::json(nullptr)
+                              : nlohmann::json(r.polish.stopped_early)}}},
+      {"objective",
+       {{"initial", r.objective_initial},
+        {"final", r.objective_final},
+        {"kind", objective_kind_name(scene.objective.kind)},
+        {"body", r.scored_body},
+        {"final_object", r.objective_final_object}}},
+      {"attacked_body", r.attacked_body},
+      {"occupancy",
+       {{"void_fraction", r.post.void_fraction},
+        {"components",
+         {{"before", r.post.connectivity.components_before},
+          {"after", r.post.connectivity.components_after}}},
+        {"elements_added", r.post.connectivity.elements_added}}},
+      {"refit",
+       {{"max_residual_before", r.post.max_residual_before_refit},
+        {"max_residual_after", refit.max_residual},
+        {"iterations", refit.iterations}}},
+      {"materials",
+       {{"Y", range(solid.materials.Y)},
+        {"nu", range(solid.materials.nu)},
+        {"rho", range(solid.materials.rho)},
+        {"alpha", range(solid.materials.alpha)}}},
+      {"timing",
+       {{"forward_s", r.forward_seconds},
+        {"adjoint_s", r.adjoint_seconds},
+        {"total_s", r.total_seconds}}}};
+  if (scene.objective.kind != ObjectiveSpec::Kind::kUndirected) {
+    // Where the scored body's centre of mass ended (m): the directed attack's own measure.
+    auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
+    report["score"] = {{"body", r.scored_body},
+                       {"kind", objective_kind_name(scene.objective.kind)},
+                       {"centre_of_mass",
+                        {{"reference", vec(r.scored_com_reference)},
+                         {"continuous", vec(r.scored_com_continuous)},
+                         {"final", vec(r.scored_com_final)}}}};
+    if (scene.objective.kind == ObjectiveSpec::Kind::kTarget) {
+      report["score"]["component"] = std::string(1, "xyz"[scene.objective.component]);
+      report["score"]["value"] = scene.objective.value;
+    }
+  }
   write_file_atomically(dir + "/report.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 }
 

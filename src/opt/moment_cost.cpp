@@ -19,6 +19,11 @@ MomentCostFunction::MomentCostFunction(const TetMesh& mesh, const DesignSpace& d
         << design.num_tets();
     throw InputError(msg.str());
   }
+  // Only the designed elements' moments: with an element mask (several bodies in one mesh) the
+  // other bodies are not the attacked object, and their mass must not enter its moments.
+  for (int e = 0; e < design_.num_tets(); ++e) {
+    if (!design_.is_designed(e)) S_.col(e).setZero();
+  }
   AddParameterBlock(design_.size());
   SetNumResiduals(10);
 }
@@ -44,8 +49,10 @@ bool MomentCostFunction::Evaluate(double const* const* parameters, double* resid
     if (design_.optimises(DesignField::kRho)) {
       const int o = design_.offset(DesignField::kRho);
       const TanhBoxMap& map = design_.map(DesignField::kRho);
-      for (int e = 0; e < design_.num_tets(); ++e) {
-        J.col(o + e) = S_.col(e).cwiseProduct(inv_scale) * (m.alpha[e] * map.derivative(theta[o + e]));
+      for (int i = 0; i < design_.num_designed(); ++i) {
+        const int e = design_.designed()[i];
+        J.col(o + i) =
+            S_.col(e).cwiseProduct(inv_scale) * (m.alpha[e] * map.derivative(theta[o + i]));
       }
     }
     if (design_.optimises(DesignField::kAlpha)) {

@@ -296,6 +296,18 @@ DriveSpec read_drive(MapReader& pose) {
 
 }  // namespace
 
+const char* objective_kind_name(ObjectiveSpec::Kind kind) {
+  switch (kind) {
+    case ObjectiveSpec::Kind::kUndirected:
+      return "undirected";
+    case ObjectiveSpec::Kind::kTarget:
+      return "target";
+    case ObjectiveSpec::Kind::kAway:
+      return "away";
+  }
+  return "?";
+}
+
 Scene parse_scene(const std::string& yaml_text, const std::string& source,
                   const std::string& base_dir, const std::vector<std::string>& overrides) {
   YAML::Node root;
@@ -323,10 +335,10 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.driven = read_drive(o);
     o.finish();
   }
+  std::set<std::string> names{"object"};  // every body's, for attack.body and objective.body
   if (top.has("bodies")) {
     const YAML::Node bodies = top.child("bodies");
     if (!bodies.IsSequence()) top.fail(bodies, "bodies", "expected a list of bodies");
-    std::set<std::string> names{"object"};
     for (size_t i = 0; i < bodies.size(); ++i) {
       const std::string key = "bodies[" + std::to_string(i) + "]";
       MapReader b(bodies[i], source, key);
@@ -508,7 +520,39 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);
     s.project_moments = a.text("project_moments", "true", {"true", "false"}) == "true";
     s.polish_iterations = a.integer("polish_iterations", s.polish_iterations, 0, 1000000);
+    s.attack_body = a.text("body", s.attack_body, names);
+    for (const BodySpec& body : s.bodies) {
+      if (body.name == s.attack_body && !body.materials_file.empty()) {
+        a.fail(a.child("body"), "body",
+               "'" + body.name +
+                   "' has a materials file, but the attacked body is designed "
+                   "from the uniform reference material (remove bodies[].materials)");
+      }
+    }
     a.finish();
+  }
+  if (top.has("objective")) {
+    const YAML::Node node = top.child("objective");
+    MapReader o(node, source, "objective");
+    if (!o.has("kind")) o.fail(node, "kind", "missing (undirected, target or away)");
+    const std::string kind = o.text("kind", "", {"undirected", "target", "away"});
+    s.objective.kind = kind == "target" ? ObjectiveSpec::Kind::kTarget
+                       : kind == "away" ? ObjectiveSpec::Kind::kAway
+                                        : ObjectiveSpec::Kind::kUndirected;
+    s.objective.body = o.text("body", "", names);
+    if (s.objective.kind == ObjectiveSpec::Kind::kTarget) {
+      if (!o.has("component")) o.fail(node, "component", "missing (x, y or z) for kind target");
+      const std::string c = o.text("component", "", {"x", "y", "z"});
+      s.objective.component = c == "x" ? 0 : c == "y" ? 1 : 2;
+      if (!o.has("value"))
+        o.fail(node, "value", "missing (the target coordinate, m) for kind target");
+      s.objective.value = o.number("value", 0, -inf, inf);
+    } else {
+      for (const char* key : {"component", "value"}) {
+        if (o.has(key)) o.fail(o.child(key), key, "only kind target takes it, not kind " + kind);
+      }
+    }
+    o.finish();
   }
   top.finish();
   return s;

@@ -129,6 +129,17 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "attack.boundary " << (s.boundary_by_vertex ? "vertices" : "faces") << "\n";
   t << "attack.round_threshold " << number(s.round_threshold) << "\n";
   t << "attack.project_moments " << (s.project_moments ? "true" : "false") << "\n";
+  // The attacked body and the objective print only when not the defaults, so older fingerprints
+  // stay valid.
+  if (s.attack_body != "object") t << "attack.body " << s.attack_body << "\n";
+  if (s.objective.kind != ObjectiveSpec::Kind::kUndirected || !s.objective.body.empty()) {
+    t << "objective " << objective_kind_name(s.objective.kind) << " "
+      << (s.objective.body.empty() ? "-" : s.objective.body);
+    if (s.objective.kind == ObjectiveSpec::Kind::kTarget) {
+      t << " " << s.objective.component << " " << number(s.objective.value);
+    }
+    t << "\n";
+  }
   return t.str();
 }
 

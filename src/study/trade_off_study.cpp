@@ -1,12 +1,11 @@
 #include "rbaa/study/trade_off_study.hpp"
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -15,13 +14,13 @@
 #include <memory>
 #include <sstream>
 
-#include "rbaa/diff/cholmod_factor.hpp"
 #include "rbaa/diff/trajectory_gradient.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/atomic_file.hpp"
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
+#include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
@@ -127,47 +126,48 @@ class StudyRunner {
                       FactorStorage storage, bool with_gradient = true) {
     Measurement m;
     m.mesh = mesh;
-    const SimulationSettings settings = simulation_settings(s, kappa_);
-    const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(mesh->V.data(), 3 * mesh->num_vertices());
-    const Eigen::VectorXd v0 = rigid_velocities(q0, s.position, s.velocity, s.angular_velocity);
-    Simulator reference(*mesh, MaterialField::uniform(mesh->num_tets(), s.reference_Y, s.reference_nu,
-                                                      s.reference_rho),
-                        settings);
+    // The attack problem on this mesh at this scene's settings, kappa frozen from the config's
+    // mesh; its reference run timed here.
+    AttackProblemOptions o;
+    o.object_mesh = mesh.get();
+    o.kappa = kappa_;
+    o.storage = storage;
+    o.stored_factor_budget = options_.memory_budget_bytes;
+    o.with_gradient = with_gradient;
     // Wall times are the fastest of up to 3 runs for runs under a second (the machine is shared;
     // the least disturbed run is the truest), one run otherwise. Runs are deterministic.
-    Trajectory traj;
-    m.forward_seconds = std::numeric_limits<double>::infinity();
-    m.forward_cpu_seconds = std::numeric_limits<double>::infinity();
-    for (int r = 0; r < std::max(1, options_.timing_repeats); ++r) {
-      const auto t0 = Clock::now();
-      const double c0 = process_cpu_seconds();
-      traj = reference.run(q0, v0);
-      m.forward_seconds = std::min(m.forward_seconds, seconds_since(t0));
-      m.forward_cpu_seconds = std::min(m.forward_cpu_seconds, process_cpu_seconds() - c0);
-      if (m.forward_seconds > 1.0) break;
-    }
+    o.run_reference = [&](Simulator& reference, const Eigen::VectorXd& q0,
+                          const Eigen::VectorXd& v0) {
+      Trajectory traj;
+      m.forward_seconds = std::numeric_limits<double>::infinity();
+      m.forward_cpu_seconds = std::numeric_limits<double>::infinity();
+      for (int r = 0; r < std::max(1, options_.timing_repeats); ++r) {
+        const auto t0 = Clock::now();
+        const double c0 = process_cpu_seconds();
+        traj = reference.run(q0, v0);
+        m.forward_seconds = std::min(m.forward_seconds, seconds_since(t0));
+        m.forward_cpu_seconds = std::min(m.forward_cpu_seconds, process_cpu_seconds() - c0);
+        if (m.forward_seconds > 1.0) break;
+      }
+      return traj;
+    };
+    const AttackProblem problem = build_attack_problem(s, o);
+    const Trajectory& traj = problem.reference;
     m.steps = traj.num_steps();
     for (const StepStats& st : traj.steps) m.iterations += st.newton_iterations;
-    m.final = final_state(traj, reference.vertex_masses());
+    m.final = final_state(traj, problem.reference_simulator->vertex_masses());
     if (!with_gradient) return m;
 
-    const std::size_t estimate =
-        CholmodFactor::bytes_of(reference.newton().linear_solver().cholmod_factor()) * std::size_t(m.steps);
-    if (storage == FactorStorage::kStore && estimate > options_.memory_budget_bytes) {
-      storage = FactorStorage::kRebuild;
-      m.note = "stored factors would take " + number(estimate / 1e9, 3) + " GB: rebuilt";
-    }
-    m.storage = factor_storage_name(storage);
-    auto objective = UndirectedTrajectoryObjective::from_reference(*mesh, s.reference_rho, traj.q.back());
-    const DesignSpace design(*mesh, DesignSpaceOptions::from_scene(s));
-    TrajectoryGradientFunction f(*mesh, settings, q0, v0, design, objective, storage);
+    m.storage = factor_storage_name(problem.storage);
+    m.note = problem.storage_note;
+    TrajectoryGradientFunction& f = *problem.gradient;
     MaterialGradient g;
     m.gradient_seconds = std::numeric_limits<double>::infinity();
     m.gradient_cpu_seconds = std::numeric_limits<double>::infinity();
     for (int r = 0; r < std::max(1, options_.timing_repeats); ++r) {
       const auto t1 = Clock::now();
       const double c1 = process_cpu_seconds();
-      f.evaluate_materials(design.initial_material(), &g);
+      f.evaluate_materials(problem.design->initial_material(), &g);
       m.gradient_seconds = std::min(m.gradient_seconds, seconds_since(t1));
       m.gradient_cpu_seconds = std::min(m.gradient_cpu_seconds, process_cpu_seconds() - c1);
       if (m.gradient_seconds > 1.0) break;
@@ -587,10 +587,12 @@ void write_pareto_plot(const StudyResult& r, const std::string& dir) {
 }  // namespace
 
 StudyResult run_study(const Scene& scene, const StudyOptions& options) {
-  // The object is designed and simulated alone; silently dropping the further bodies would
-  // attack another scene than the one given.
+  // The study's measures are the object's alone (its final state, the gradient's density over
+  // its mesh, its mesh sweep); silently dropping the further bodies would study another scene
+  // than the one given. The attack problem it builds would take them.
   if (!scene.bodies.empty()) {
-    throw InputError(scene.source + ": key 'bodies': rbaa study designs the object in a scene of its own; "
+    throw InputError(scene.source +
+                     ": key 'bodies': rbaa study measures the object in a scene of its own; "
                      "scenes with further bodies are not supported by it yet");
   }
   if (!(options.reference_time_divisor >= 2)) throw InputError("study: the reference time divisor must be >= 2");

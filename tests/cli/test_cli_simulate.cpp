@@ -311,13 +311,24 @@ TEST_F(CliSimulate, SeveralBodiesRunThroughSimulateAndGradcheck) {
   for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
   ASSERT_EQ(row.size(), 20u);
   EXPECT_GT(row[17], 0.13 + 0.01) << last;  // the target moved along +x
-  // Gradients of each body's materials (--body restricts the directions to one body), by the
-  // exact tangent-linear check: central differences are noise here (see TwoBodyGradient).
+  // Gradients of one body's materials (--body: the attacked body, whose elements alone are the
+  // design; the other keeps its material), by the exact tangent-linear check: central
+  // differences of Y are noise here (see TwoBodyGradient).
   const Result g = run("gradcheck --config=" + config +
                        " --fields=Y --body=target --directions=1 --method=tangent");
   ASSERT_EQ(g.exit_code, 0) << g.err << g.out;
   EXPECT_NE(g.out.find("relative error"), std::string::npos) << g.out;
+  EXPECT_NE(g.out.find("design on body 'target'"), std::string::npos) << g.out;
   expect_failure("gradcheck --config=" + config + " --body=ghost", "--body=ghost: the scene has no such body");
+  // The directed objective on the struck ball, the design on the object: rho's central
+  // differences agree with the adjoint within SPEC's bar through body-body contact.
+  const Result d = run("gradcheck --config=" + config +
+                       " --set='objective={body: target, kind: target, component: x, value: 0}'"
+                       " --fields=rho --directions=2 --method=fd");
+  ASSERT_EQ(d.exit_code, 0) << d.err << d.out;
+  EXPECT_NE(d.out.find("design on body object"), std::string::npos) << d.out;
+  EXPECT_NE(d.out.find("objective target on body 'target'"), std::string::npos) << d.out;
+  EXPECT_NE(d.out.find("PASS: max relative error"), std::string::npos) << d.out;
   // Bodies that start overlapping are refused naming both.
   std::string text = kTwoBalls;
   text.replace(text.find("[0.13, 0.03, 0.0608]"), 20, "[0.05, 0.0, 0.0608]");
@@ -329,12 +340,41 @@ TEST_F(CliSimulate, SeveralBodiesRunThroughSimulateAndGradcheck) {
 
 namespace {
 
-TEST_F(CliSimulate, AttackAndStudyRefuseScenesWithFurtherBodies) {
+// rbaa attack designs the object among the further bodies, which keep their material, and scores
+// the objective on any of them; rbaa study still refuses them (its measures are the object's
+// alone), and rbaa evaluate refuses an attack on another body than the object.
+TEST_F(CliSimulate, AttackDesignsTheObjectAmongFurtherBodiesAndStudyRefusesThem) {
   const std::string config = write_config("two_balls.yaml", kTwoBalls);
-  expect_failure("attack --config=" + config + " --out=" + path("a"),
-                 "key 'bodies': rbaa attack designs the object in a scene of its own");
-  expect_failure("study --config=" + config + " --out=" + path("s"),
-                 "key 'bodies': rbaa study designs the object in a scene of its own");
+  const Result a = run("attack --config=" + config + " --out=" + path("a") + " --iterations=2" +
+                       " --set='objective={body: target, kind: target, component: x, value: 0}'");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  std::ifstream in(path("a/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["attacked_body"], "object");
+  EXPECT_EQ(report["objective"]["kind"], "target");
+  EXPECT_EQ(report["objective"]["body"], "target");
+  EXPECT_EQ(report["score"]["component"], "x");
+  // The target was struck: it ended ahead of where it started (x = 0.13).
+  EXPECT_GT(report["score"]["centre_of_mass"]["reference"][0].get<double>(), 0.14) << report.dump();
+  EXPECT_LT(report["moments"]["max_normalized_residual"].get<double>(), 1e-10);
+  EXPECT_EQ(report["iterations"], 2);
+  // The design is the object's alone: the written object has the object's elements.
+  const Result object_only =
+      run("simulate --config=" + config + " --vtu_every=0 --out=" + path("s"));
+  ASSERT_EQ(object_only.exit_code, 0) << object_only.err;
+  std::ifstream sim_in(path("s/report.json"));
+  const auto sim = nlohmann::json::parse(sim_in);
+  EXPECT_LT(report["mesh"]["tets"].get<int>(), sim["mesh"]["tets"].get<int>())
+      << sim["mesh"].dump();
+
+  expect_failure("study --config=" + config + " --out=" + path("st"),
+                 "key 'bodies': rbaa study measures the object in a scene of its own");
+  const std::string on_target =
+      write_config("on_target.yaml", std::string(kTwoBalls) + "attack: {body: target}\n");
+  expect_failure(
+      "evaluate --config=" + on_target + " --adversarial=" + path("a/adversarial.msh") +
+          " --out=" + path("e"),
+      "key 'attack.body': rbaa evaluate puts the adversarial object in the object's place");
 }
 
 }  // namespace

@@ -8,10 +8,14 @@
 //   gyration; q_ref,N the final positions of a fixed reference run).
 // * Observables (a scalar of the trajectory, e.g. a centre-of-mass coordinate at step k) and the
 //   DirectedObjective C = sum_i weight_i (o_i - target_i)^2 built from them.
+//
+// In a world of several bodies stacked into one mesh (sim/world.hpp) each takes the body it
+// measures: the undirected term of the attacked body A, the centre of mass of a scored body B.
+// Their seeds are full-length (3 #V per position, #T per material field) with zeros outside the
+// body.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
-
 #include <memory>
 #include <vector>
 
@@ -19,6 +23,7 @@
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/sim/trajectory.hpp"
+#include "rbaa/sim/world.hpp"
 
 namespace rbaa {
 
@@ -45,6 +50,12 @@ class UndirectedTrajectoryObjective : public TrajectoryObjective {
   /// positions; m0_ref and L from its exact moments.
   static std::shared_ptr<UndirectedTrajectoryObjective> from_reference(
       const TetMesh& rest, double reference_rho, const Eigen::VectorXd& reference_final);
+  /// The same for one body of a stacked mesh: Mref, m0_ref and L of `body`'s elements alone (the
+  /// other bodies carry no weight in the gap); `reference_final` is the whole world's (3 #V).
+  /// A body covering the whole mesh gives the single-body objective above, bit for bit.
+  static std::shared_ptr<UndirectedTrajectoryObjective> from_reference(
+      const TetMesh& rest, double reference_rho, const Eigen::VectorXd& reference_final,
+      const Body& body);
 
   /// -(d^T Mref d) / (m0_ref L^2), d = q_N - q_ref(T); dC/dq_N = -2 Mref d / (m0_ref L^2).
   double evaluate(const Trajectory& trajectory, const MaterialField& materials,
@@ -75,7 +86,11 @@ class Observable {
 /// the object's own vertex masses (so it depends on rho and alpha directly).
 class CentreOfMassObservable : public Observable {
  public:
+  /// The centre of mass of the whole mesh.
   CentreOfMassObservable(const TetMesh& rest, const Eigen::Vector3d& direction, int step = -1);
+  /// The centre of mass of one body of a stacked mesh: its elements' masses at its vertices.
+  CentreOfMassObservable(const TetMesh& rest, const Body& body, const Eigen::Vector3d& direction,
+                         int step = -1);
   double evaluate(const Trajectory& trajectory, const MaterialField& materials,
                   TrajectorySeed* gradient) const override;
 
@@ -83,6 +98,9 @@ class CentreOfMassObservable : public Observable {
   Tets tets_;
   Eigen::VectorXd volumes_;
   int num_vertices_;
+  int num_tets_;
+  // The body measured: its element and vertex ranges (the whole mesh by default).
+  int element_begin_, element_end_, vertex_begin_, vertex_end_;
   Eigen::Vector3d direction_;
   int step_;
 };

@@ -5,10 +5,16 @@
 // back to dC/dtheta. Only this class knows the layout of theta.
 //
 // Layout of theta: the chosen fields' blocks in the fixed order Y, nu, rho, alpha. Y, nu and rho
-// have one entry per element (#T); alpha has one entry per interior element (#interior, in
-// increasing element order). Boundary elements (a boundary face, or with boundary_by_vertex any
-// boundary vertex) keep alpha = 1 and are not in theta. Fields that are not optimised keep their
-// initial values.
+// have one entry per designed element (#designed, in increasing element order); alpha has one
+// entry per designed interior element (#interior, in increasing element order). Boundary elements
+// (a boundary face, or with boundary_by_vertex any boundary vertex) keep alpha = 1 and are not in
+// theta. Fields that are not optimised keep their initial values.
+//
+// The element mask: in a world of several bodies stacked into one mesh, only the attacked body's
+// elements are designed (attack body A, score body B). Every other element keeps the material
+// given to hold_fixed_elements (its body's reference material or materials file) under any theta,
+// and its entries of a material gradient are dropped by chain_gradient. Without a mask every
+// element is designed, and the layout is the single-body one above with #designed = #T.
 
 #include <Eigen/Core>
 
@@ -60,8 +66,10 @@ struct DesignSpaceOptions {
 class DesignSpace {
  public:
   /// Throws rbaa::InputError when an option is out of range (initial values must lie strictly
-  /// inside their ranges, since the tanh map reaches the ends only at infinity).
-  DesignSpace(const TetMesh& mesh, const DesignSpaceOptions& options);
+  /// inside their ranges, since the tanh map reaches the ends only at infinity). `designed`: #T
+  /// flags of the elements in the design (empty: every element); at least one must be set.
+  DesignSpace(const TetMesh& mesh, const DesignSpaceOptions& options,
+              std::vector<char> designed = {});
 
   const DesignSpaceOptions& options() const { return options_; }
   int num_tets() const { return num_tets_; }
@@ -71,20 +79,38 @@ class DesignSpace {
   bool optimises(DesignField field) const { return offset_[index(field)] >= 0; }
   /// First entry of the field's block in theta, or -1 when the field is not optimised.
   int offset(DesignField field) const { return offset_[index(field)]; }
-  /// #T for Y, nu, rho; #interior for alpha; 0 when not optimised.
+  /// #designed for Y, nu, rho; #interior for alpha; 0 when not optimised.
   int block_size(DesignField field) const { return block_size_[index(field)]; }
+  /// The elements of a field's block in theta, in its order: designed() for Y, nu and rho,
+  /// interior() for alpha (whether or not the field is optimised).
+  const std::vector<int>& elements(DesignField field) const {
+    return field == DesignField::kAlpha ? interior_ : designed_;
+  }
   const TanhBoxMap& map(DesignField field) const { return maps_[index(field)]; }
 
-  /// #T flags of the elements whose alpha is fixed at 1.
+  /// #T flags of the elements whose alpha is fixed at 1 (boundary elements of the whole mesh).
   const std::vector<char>& boundary() const { return boundary_; }
-  /// #interior element indices, increasing: entry i of the alpha block belongs to interior()[i].
+  /// #designed element indices, increasing: entry i of the Y, nu and rho blocks belongs to
+  /// designed()[i]. Every element without a mask.
+  const std::vector<int>& designed() const { return designed_; }
+  int num_designed() const { return static_cast<int>(designed_.size()); }
+  /// Whether element e is in the design (#T flags).
+  bool is_designed(int e) const { return designed_flag_[e] != 0; }
+  /// #interior designed, non-boundary element indices, increasing: entry i of the alpha block
+  /// belongs to interior()[i].
   const std::vector<int>& interior() const { return interior_; }
   int num_interior() const { return static_cast<int>(interior_.size()); }
 
   /// The unperturbed initial material (SPEC section 4): Y0, nu0; alpha = alpha0 on interior
   /// elements when alpha is optimised (else 1) and 1 on boundary elements; rho alpha =
-  /// reference_rho everywhere. Fields not in theta keep these values in to_material.
+  /// reference_rho everywhere. Fields not in theta keep these values in to_material; elements
+  /// outside the mask hold what hold_fixed_elements gave them.
   const MaterialField& initial_material() const { return initial_; }
+
+  /// Makes every element outside the mask keep the values of `field` (#T per array; entries of
+  /// designed elements are ignored) in initial_material and in every to_material. Throws
+  /// rbaa::InputError on a size mismatch.
+  void hold_fixed_elements(const MaterialField& field);
 
   /// Makes the fields that are not in theta keep the values of `field` (#T per array) instead of
   /// the initial ones, so that one given design can be examined field by field. Throws
@@ -107,12 +133,14 @@ class DesignSpace {
   Eigen::VectorXd map_derivative(const Eigen::VectorXd& theta) const;
 
   /// dC/dtheta (size()) from dC/d(material): per entry dC/dx_e dx_e/dtheta_e. Gradients of
-  /// fields that are not optimised, and of boundary elements' alpha, are dropped.
+  /// fields that are not optimised, of boundary elements' alpha, and of elements outside the
+  /// mask are dropped.
   Eigen::VectorXd chain_gradient(const Eigen::VectorXd& theta, const MaterialGradient& g) const;
 
  private:
   static int index(DesignField f) { return static_cast<int>(f); }
   void check_theta(const Eigen::VectorXd& theta) const;
+  void check_field_size(const MaterialField& field) const;
 
   DesignSpaceOptions options_;
   int num_tets_ = 0;
@@ -121,6 +149,8 @@ class DesignSpace {
   int block_size_[4] = {0, 0, 0, 0};
   TanhBoxMap maps_[4];
   std::vector<char> boundary_;
+  std::vector<char> designed_flag_;
+  std::vector<int> designed_;
   std::vector<int> interior_;
   MaterialField initial_;
 };

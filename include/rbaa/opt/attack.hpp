@@ -1,5 +1,8 @@
 #pragma once
 // `rbaa attack` as a library call (SPEC sections 4 and 5): from a scene to an adversarial object.
+// The problem (mesh, kappa, reference run, objective, design) is opt/attack_problem.hpp's; in a
+// scene with further bodies the attacked body A is designed among them and the objective may
+// score another body B.
 //
 //   reference run -> Adam on C = C_traj + beta ||r||^2 (forward + adjoint per iteration, smoothed
 //   occupancy gradient, checkpoints) -> rounding, connectivity, density re-fit, void removal ->
@@ -34,7 +37,9 @@ struct AttackOptions {
 };
 
 struct AttackResult {
-  TetMesh mesh;                  ///< the placed reference mesh (the design's domain)
+  std::string attacked_body;  ///< the designed body A ("object" or its bodies[].name)
+  std::string scored_body;    ///< the objective's body B
+  TetMesh mesh;               ///< A's placed reference mesh (the design's domain)
   double kappa = 0;
   Moments reference_moments;
   MaterialField continuous;      ///< after the Adam loop (full mesh)
@@ -55,6 +60,12 @@ struct AttackResult {
   double com_gap_initial = 0, com_gap_continuous = 0, com_gap_final = 0;  ///< m
   double gap_post_processed = 0, com_gap_post_processed = 0;          ///< before polishing (m)
   double objective_initial = 0, objective_final = 0;
+  /// The trajectory term of the post-processed and of the final object (no moment term).
+  double objective_post_processed = 0, objective_final_object = 0;
+  /// B's centre of mass at T (m): reference run, continuous design, final object.
+  Eigen::Vector3d scored_com_reference = Eigen::Vector3d::Zero();
+  Eigen::Vector3d scored_com_continuous = Eigen::Vector3d::Zero();
+  Eigen::Vector3d scored_com_final = Eigen::Vector3d::Zero();
   double forward_seconds = 0, adjoint_seconds = 0, total_seconds = 0;
 };
 

@@ -5,7 +5,8 @@
 // One parameter block: the whole design vector theta (DesignSpace::size()). The analytic Jacobian
 // is dr/dtheta_rho = diag(1/scale) S diag(alpha rho'(theta_rho)) on the rho block and
 // diag(1/scale) S diag(rho alpha'(theta_alpha)) on the interior elements' alpha block; zero on the
-// Y and nu blocks.
+// Y and nu blocks. With an element mask (DesignSpace) S keeps only the designed elements' columns:
+// the moments are the attacked body's alone, and `reference` must be that body's.
 
 #include <ceres/dynamic_cost_function.h>
 

@@ -74,6 +74,29 @@ struct BodySpec {
   DriveSpec driven;  ///< its driven vertices (bodies[i].driven), if any
 };
 
+/// What the attack minimises besides the moment term (the config's `objective` key; SPEC section
+/// 4, issue 16). Body B is the scored body, A the attacked one; L_B is B's radius of gyration at
+/// the uniform reference density, so that every kind is dimensionless and beta means the same.
+struct ObjectiveSpec {
+  enum class Kind {
+    /// -||q_B(T) - q_B,ref(T)||^2_Mref / (m0_B L_B^2): SPEC section 4's undirected term (the
+    /// default, on the attacked body).
+    kUndirected,
+    /// (c_B(T)[component] - value)^2 / L_B^2: B's final centre of mass towards a value (m).
+    kTarget,
+    /// -|c_B(T) - c_B,ref(T)|^2 / L_B^2: B's final centre of mass away from where the reference
+    /// run put it (the undirected term of B's centre of mass alone).
+    kAway,
+  };
+  Kind kind = Kind::kUndirected;
+  std::string body;   ///< "object" or a name from `bodies`; empty: the attacked body
+  int component = 0;  ///< 0, 1, 2 for x, y, z (kTarget)
+  double value = 0;   ///< m (kTarget)
+};
+
+/// "undirected", "target", "away".
+const char* objective_kind_name(ObjectiveSpec::Kind kind);
+
 /// Closed interval [lo, hi].
 struct Range {
   double lo = 0, hi = 0;
@@ -143,6 +166,11 @@ struct Scene {
   double alpha_min = 1e-3;
 
   // Attack (optimiser) settings, used by `rbaa attack`.
+  /// The attacked body (attack.body): "object" or a name from `bodies`. Its elements are the
+  /// design; every other body keeps its material (reference_material or its materials file).
+  std::string attack_body = "object";
+  /// The objective (top-level `objective`); default: the undirected term of the attacked body.
+  ObjectiveSpec objective;
   std::vector<std::string> fields{"Y", "nu", "rho", "alpha"};
   int iterations = 50;
   double learning_rate = 0.05;
