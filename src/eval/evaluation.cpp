@@ -12,6 +12,7 @@
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/scene/simulate.hpp"
+#include "rbaa/sim/observables.hpp"
 
 namespace rbaa {
 namespace {
@@ -40,17 +41,42 @@ RunTrace trace_from_rigid(const std::string& name, const std::vector<RigidState>
   return t;
 }
 
-RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run) {
+// The trace of body `body` of a deformable run (0: the object, whose observables the run holds;
+// i > 0: the scene's bodies[i - 1], from the trajectory with its vertex masses, as the object's).
+RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run, int body = 0) {
   RunTrace t;
   t.name = name;
   t.seconds = run.setup_seconds + run.simulate_seconds;
-  for (const auto& o : run.observables) {
-    t.time.push_back(o.time);
-    t.position.push_back(o.centre_of_mass);
-    t.velocity.push_back(o.com_velocity);
-    t.orientation.push_back(o.orientation);
+  if (body == 0) {
+    for (const auto& o : run.observables) {
+      t.time.push_back(o.time);
+      t.position.push_back(o.centre_of_mass);
+      t.velocity.push_back(o.com_velocity);
+      t.orientation.push_back(o.orientation);
+    }
+    return t;
+  }
+  const Body& b = run.bodies.at(body);
+  const Eigen::VectorXd m = run.vertex_masses.segment(b.vertex_begin, b.num_vertices());
+  const auto part = [&](const Eigen::VectorXd& x) {
+    return Eigen::VectorXd(x.segment(3 * b.vertex_begin, 3 * b.num_vertices()));
+  };
+  const Trajectory& traj = run.trajectory;
+  for (int k = 0; k < static_cast<int>(traj.q.size()); ++k) {
+    t.time.push_back(traj.time(k));
+    t.position.push_back(centre_of_mass(part(traj.q[k]), m));
+    t.velocity.push_back(centre_of_mass(part(traj.velocity(k)), m));
+    t.orientation.push_back(best_fit_rotation(part(traj.q[0]), part(traj.q[k]), m));
   }
   return t;
+}
+
+// The body evaluation.body names: 0 the object, i > 0 the scene's bodies[i - 1].
+int evaluated_body(const Scene& scene) {
+  for (size_t i = 0; i < scene.bodies.size(); ++i) {
+    if (scene.bodies[i].name == scene.evaluation_body) return static_cast<int>(i) + 1;
+  }
+  return 0;
 }
 
 // The adversarial object must have the reference's outer surface: every reference boundary
@@ -215,8 +241,9 @@ OwnTwin own_twin(const SimulationRun& run, const RunTrace& trace, const std::str
   rigid.margin = std::min(rigid.margin, scene.d_hat);
   t.calibrations = calibrate_to_run(run, mass, shape, scene, further, rigid, tolerance);
   const auto start = std::chrono::steady_clock::now();
-  t.rigid = trace_from_rigid(name, simulate_rigid(mass, shape, scene, rigid, scene.duration, further),
-                             seconds_since(start));
+  t.rigid = trace_from_rigid(
+      name, simulate_rigid(mass, shape, scene, rigid, scene.duration, further, evaluated_body(scene)),
+      seconds_since(start));
   t.gap = compare_runs(trace, t.rigid);
   t.path_length = path_length(trace);
   t.unexplained = t.path_length > 0 ? t.gap.max_position_gap / t.path_length : 0.0;
@@ -240,7 +267,8 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   BaselineAtStep out;
   const auto start = std::chrono::steady_clock::now();
   const SimulationRun baseline = run_simulation(scene, mesh, materials, sim_options);
-  out.baseline = trace_from_deformable("deformable reference", baseline);
+  const int traced = evaluated_body(scene);
+  out.baseline = trace_from_deformable("deformable reference", baseline, traced);
 
   rigid.margin = std::min(rigid.margin, scene.d_hat);
   const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
@@ -249,7 +277,7 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   out.rigid = rigid;
 
   const auto rigid_start = std::chrono::steady_clock::now();
-  const auto rigid_states = simulate_rigid(mass, shape, scene, rigid, scene.duration, further);
+  const auto rigid_states = simulate_rigid(mass, shape, scene, rigid, scene.duration, further, traced);
   out.rigid_reference = trace_from_rigid("rigid reference", rigid_states, seconds_since(rigid_start));
   const RunComparison gap = compare_runs(out.baseline, out.rigid_reference);
   out.trial.time_step = scene.time_step;
@@ -318,7 +346,8 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
     ev.rigid_shape += " (exact against planes: a plane first touches a body at a hull vertex)";
   }
   // The scene's further bodies move in the twins as in the deformable runs (which stack them after
-  // the object); the comparison is of the object alone.
+  // the object); the comparison is of one body alone: the object, or evaluation.body (the bat's
+  // struck ball).
   const SceneWorld world = make_world(scene_in, reference_mesh);
   const std::vector<RigidBody> further = rigid_bodies(
       world.mesh, std::vector<Body>(world.bodies.begin() + 1, world.bodies.end()),
@@ -354,13 +383,14 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   ev.baseline_disagreement = chosen.trial.disagreement;
 
   const SimulationRun adversarial = run_simulation(scene, adversarial_mesh, adversarial_materials, sim_options);
-  ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial);
+  const int traced = evaluated_body(scene_in);
+  ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial, traced);
   if (options.soft_control) {
     ev.soft_Y = scene_in.Y_range.lo;
     const MaterialField soft = MaterialField::uniform(reference_mesh.num_tets(), ev.soft_Y, scene.reference_nu,
                                                       scene.reference_rho, 1.0);
     const SimulationRun soft_run = run_simulation(scene, reference_mesh, soft, sim_options);
-    ev.deformable_soft = trace_from_deformable("deformable soft uniform", soft_run);
+    ev.deformable_soft = trace_from_deformable("deformable soft uniform", soft_run, traced);
     ev.soft_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_soft);
     ev.soft_own_twin = own_twin(soft_run, ev.deformable_soft, "rigid twin of the soft control", ref_mass,
                                 ref_shape, scene, further, options.rigid, options.calibration_tolerance);
@@ -369,7 +399,8 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
                                      adv_mass, adv_shape, scene, further, options.rigid,
                                      options.calibration_tolerance);
   const auto start = std::chrono::steady_clock::now();
-  const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration, further);
+  const auto rigid_adv =
+      simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration, further, traced);
   ev.rigid_adversarial = trace_from_rigid("rigid adversarial", rigid_adv, seconds_since(start));
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);

@@ -114,6 +114,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   }
   nlohmann::json report = {
       {"scene", scene.name},
+      {"compared_body", scene.evaluation_body.empty() ? "object" : scene.evaluation_body},
       {"duration_s", ev.duration},
       {"time_step_s", ev.time_step},
       {"attack_time_step_s", ev.attack_time_step},
@@ -152,7 +153,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
         << "Duration " << fmt(ev.duration) << " s, step " << fmt(ev.time_step) << " s (attack built at "
         << fmt(ev.attack_time_step) << " s). Rigid: Bullet ("
-        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s.\n\n"
+        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s. Compared: the "
+        << (scene.evaluation_body.empty() ? std::string("object") : "body '" + scene.evaluation_body + "'")
+        << "'s centre of mass.\n\n"
         << "Restitution per plane, fitted to the deformable baseline's first rebound off it:\n\n"
         << "| plane | first bounce (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
         << "|---|---|---|---|---|---|\n";

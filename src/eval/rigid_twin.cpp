@@ -1,6 +1,7 @@
 #include "rbaa/eval/rigid_twin.hpp"
 
 #include <sstream>
+#include <string>
 
 #include "rbaa/error.hpp"
 
@@ -18,7 +19,12 @@ RigidWorld rigid_world(const Scene& scene, std::vector<RigidBody> bodies) {
 
 std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const RigidShape& shape,
                                        const Scene& scene, const RigidSettings& settings,
-                                       double duration, const std::vector<RigidBody>& further) {
+                                       double duration, const std::vector<RigidBody>& further,
+                                       int body) {
+  if (body < 0 || body > static_cast<int>(further.size())) {
+    throw InputError(scene.source + ": the rigid twin has no body " + std::to_string(body) +
+                     " (the object and " + std::to_string(further.size()) + " further)");
+  }
   // A margin beyond d_hat would let the twin bounce off a gap the deformable body never feels.
   if (settings.margin > scene.d_hat) {
     std::ostringstream msg;
@@ -33,9 +39,17 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
   object.shape = shape;
   object.velocity = scene.velocity;
   object.angular_velocity = scene.angular_velocity;
+  if (scene.driven.enabled) {
+    // A driven object (the bat) is a kinematic twin carried by its drive (rigid_bodies does the
+    // same for further bodies).
+    object.kinematic = true;
+    object.drive = scene.driven.motion;
+    object.velocity = object.drive.point_velocity(mass.centre, 0.0);
+    object.angular_velocity = object.drive.angular_speed(0.0) * object.drive.axis;
+  }
   bodies.push_back(std::move(object));
   bodies.insert(bodies.end(), further.begin(), further.end());
-  return simulate_rigid(rigid_world(scene, std::move(bodies)), settings, duration).front();
+  return simulate_rigid(rigid_world(scene, std::move(bodies)), settings, duration)[body];
 }
 
 }  // namespace rbaa

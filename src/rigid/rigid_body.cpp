@@ -172,10 +172,6 @@ std::vector<RigidBody> rigid_bodies(const TetMesh& stacked, const std::vector<Bo
         b.element_begin < 0 || b.element_end > stacked.num_tets() || b.num_elements() <= 0) {
       throw InputError("rigid bodies: " + b.name + "'s vertex or element range is not in the mesh");
     }
-    if (b.is_driven()) {
-      throw InputError("rigid bodies: " + b.name +
-                       " is driven, and the rigid twin has no kinematic bodies yet");
-    }
     TetMesh mesh;
     mesh.V = stacked.V.middleRows(b.vertex_begin, b.num_vertices());
     mesh.T = stacked.T.middleRows(b.element_begin, b.num_elements()).array() - b.vertex_begin;
@@ -189,6 +185,14 @@ std::vector<RigidBody> rigid_bodies(const TetMesh& stacked, const std::vector<Bo
     r.shape = rigid_shape_from_surface(mesh);
     r.velocity = b.velocity;
     r.angular_velocity = b.angular_velocity;
+    // A driven body's driven vertices carry it rigidly in the twin: a kinematic body on the same
+    // prescribed motion.
+    if (b.is_driven()) {
+      r.kinematic = true;
+      r.drive = b.drive;
+      r.velocity = b.drive.point_velocity(r.mass.centre, 0.0);
+      r.angular_velocity = b.drive.angular_speed(0.0) * b.drive.axis;
+    }
     out.push_back(std::move(r));
   }
   return out;

@@ -2,6 +2,8 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -117,6 +119,7 @@ std::unique_ptr<btCollisionShape> make_mesh_shape(BulletWorld& w, const Obstacle
 // y = A^T (x - c).
 btRigidBody* add_body(BulletWorld& w, const RigidBody& r, const RigidSettings& settings,
                       double friction) {
+  if (r.kinematic) validate_prescribed_motion(r.drive, "rigid body " + r.name + "'s drive");
   const RigidMassProperties& mass = r.mass;
   if (!(mass.mass > 0) || !(mass.principal_moments.minCoeff() > 0)) {
     throw InputError("rigid body " + r.name + " needs positive mass and principal moments");
@@ -131,13 +134,20 @@ btRigidBody* add_body(BulletWorld& w, const RigidBody& r, const RigidSettings& s
   compound->addChildShape(btTransform(to_bt(Eigen::Matrix3d(A.transpose())), to_bt(child_origin)),
                           child.get());
   auto motion = std::make_unique<btDefaultMotionState>(btTransform(to_bt(A), to_bt(c0)));
-  btRigidBody::btRigidBodyConstructionInfo ci(mass.mass, motion.get(), compound.get(),
-                                              to_bt(mass.principal_moments));
+  // A kinematic body has Bullet's infinite mass (0) and takes its pose from its motion state.
+  btRigidBody::btRigidBodyConstructionInfo ci(
+      r.kinematic ? 0.0 : mass.mass, motion.get(), compound.get(),
+      r.kinematic ? btVector3(0, 0, 0) : to_bt(mass.principal_moments));
   ci.m_linearDamping = 0;
   ci.m_angularDamping = 0;
   ci.m_restitution = settings.restitution;
   ci.m_friction = friction;
   auto body = std::make_unique<btRigidBody>(ci);
+  if (r.kinematic) {
+    // Mass 0 made it static; kinematic instead (moved by its motion state, never integrated).
+    body->setCollisionFlags((body->getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
+                            btCollisionObject::CF_KINEMATIC_OBJECT);
+  }
   body->setActivationState(DISABLE_DEACTIVATION);
   body->setFlags(body->getFlags() | BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY);
   body->setLinearVelocity(to_bt(r.velocity));
@@ -154,6 +164,16 @@ btRigidBody* add_body(BulletWorld& w, const RigidBody& r, const RigidSettings& s
   w.motion_states.push_back(std::move(motion));
   w.bodies.push_back(std::move(body));
   return added;
+}
+
+// The pose at time t of a kinematic body (Bullet frame: the principal frame A at the centre c0 at
+// t = 0): x0 -> drive.position(x0, t) is the rotation R(t) about the axis through the drive's
+// centre, so the frame turns to R(t) A and its origin goes where the drive carries c0.
+btTransform kinematic_pose(const RigidBody& r, double t) {
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(r.drive.angle(t), r.drive.axis).toRotationMatrix();
+  return btTransform(to_bt(Eigen::Matrix3d(R * r.mass.principal_axes)),
+                     to_bt(r.drive.position(r.mass.centre, t)));
 }
 
 }  // namespace
@@ -225,6 +245,11 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
             .normalized();
     s.velocity = from_bt(bodies[b]->getLinearVelocity());
     s.angular_velocity = from_bt(bodies[b]->getAngularVelocity());
+    if (const RigidBody& r = world.bodies[b]; r.kinematic) {
+      // Bullet's kinematic velocities are chords over the last internal step; the drive's exact.
+      s.velocity = r.drive.point_velocity(r.mass.centre, t);
+      s.angular_velocity = r.drive.angular_speed(t) * r.drive.axis;
+    }
     return s;
   };
   std::vector<std::vector<RigidState>> states(bodies.size());
@@ -232,8 +257,19 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
     states[b].reserve(steps + 1);
     states[b].push_back(sample(b, 0.0));
   }
+  // Kinematic bodies: before each internal step their motion states get the pose at its end;
+  // Bullet reads it at the step's start and gives the body the velocity that reaches it, which
+  // the contact solver uses, then leaves the body exactly there.
+  auto step_to = [&](double t) {
+    for (size_t b = 0; b < bodies.size(); ++b) {
+      if (world.bodies[b].kinematic) {
+        bodies[b]->getMotionState()->setWorldTransform(kinematic_pose(world.bodies[b], t));
+      }
+    }
+    w.world.stepSimulation(dt, 0);
+  };
   for (int n = 1; n <= steps; ++n) {
-    for (int k = 0; k < substeps; ++k) w.world.stepSimulation(dt, 0);
+    for (int k = 0; k < substeps; ++k) step_to((n - 1) * h + (k + 1) * dt);
     for (size_t b = 0; b < bodies.size(); ++b) states[b].push_back(sample(b, n * h));
   }
   return states;

@@ -446,6 +446,16 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.evaluation_baseline_tolerance = e.number("baseline_tolerance", s.evaluation_baseline_tolerance, 0.0, 1.0, true);
     s.evaluation_max_refinements = e.integer("max_refinements", s.evaluation_max_refinements, 0, 10);
     s.evaluation_duration = e.number("duration", s.evaluation_duration, 0.0, 1e6, true);
+    s.evaluation_body = e.text("body", "");
+    if (s.evaluation_body == "object") s.evaluation_body.clear();
+    if (!s.evaluation_body.empty() &&
+        std::none_of(s.bodies.begin(), s.bodies.end(),
+                     [&](const BodySpec& b) { return b.name == s.evaluation_body; })) {
+      std::string names = "object";
+      for (const BodySpec& b : s.bodies) names += ", " + b.name;
+      e.fail(e.child("body"), "body",
+             "'" + s.evaluation_body + "' names no body (the bodies are: " + names + ")");
+    }
     const double step = s.evaluation_time_step > 0 ? s.evaluation_time_step : s.time_step;
     if (s.evaluation_duration > 0 && s.evaluation_duration < step) {
       e.fail(top.child("evaluation"), "duration", "shorter than one time step");

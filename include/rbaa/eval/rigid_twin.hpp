@@ -14,11 +14,14 @@ namespace rbaa {
 RigidWorld rigid_world(const Scene& scene, std::vector<RigidBody> bodies);
 
 /// The object's states at t = 0, h, 2h, ... (h = scene.time_step) over `duration` seconds: the
-/// object (mass properties and shape of its placed mesh, the scene's initial velocity and spin),
+/// object (mass properties and shape of its placed mesh, the scene's initial velocity and spin;
+/// a driven object a kinematic body on its drive),
 /// then `further` bodies, among the scene's obstacles. Throws rbaa::InputError when
 /// settings.margin exceeds the scene's d_hat.
+/// `body` picks whose states are returned: 0 the object, i > 0 further[i - 1].
 std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const RigidShape& shape,
                                        const Scene& scene, const RigidSettings& settings,
-                                       double duration, const std::vector<RigidBody>& further = {});
+                                       double duration, const std::vector<RigidBody>& further = {},
+                                       int body = 0);
 
 }  // namespace rbaa

@@ -61,11 +61,16 @@ struct RigidBody {
   RigidShape shape;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< of the centre of mass (m/s)
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< rad/s (world)
+  /// A kinematic body: its pose is not integrated but follows `drive` from its t = 0 pose (a mesh
+  /// point x0 is at drive.position(x0, t)); it pushes dynamic bodies and is not pushed back.
+  /// velocity and angular_velocity are then the drive's at t = 0.
+  bool kinematic = false;
+  PrescribedMotion drive{};
 };
 
 /// The twins of the bodies of a stacked mesh (sim/world.hpp's Body ranges), each from its own
 /// vertices, elements and densities (`density`: #T, per element of the stacked mesh), with its
-/// Body's initial velocity and spin.
+/// Body's initial velocity and spin. A driven Body becomes a kinematic twin on its drive.
 std::vector<RigidBody> rigid_bodies(const TetMesh& stacked, const std::vector<Body>& bodies,
                                     const Eigen::VectorXd& density);
 

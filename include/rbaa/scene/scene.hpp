@@ -141,6 +141,10 @@ struct Scene {
   double evaluation_duration = 0;   ///< s; 0: 4 x the attack's duration
   double evaluation_baseline_tolerance = 0.005;
   int evaluation_max_refinements = 3;
+  /// evaluation.body: the body whose centre of mass `rbaa evaluate` compares between runs (gaps,
+  /// velocity angles): "" (or "object") the object; else a further body's name (the bat's struck
+  /// ball).
+  std::string evaluation_body;
 
   // Contact (IPC log barrier on unsigned distances).
   double d_hat = 1e-3;  ///< activation distance (m)
