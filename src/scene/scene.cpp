@@ -377,7 +377,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     if (c.has("pairs")) {
       // [{bodies: [name, name], friction: mu}]: names are "object" and the bodies' names.
       const YAML::Node pairs = c.child("pairs");
-      if (!pairs.IsSequence()) c.fail(pairs, "pairs", "expected a list of {bodies: [a, b], friction}");
+      if (!pairs.IsSequence()) {
+        c.fail(pairs, "pairs", "expected a list of {bodies: [a, b], friction}");
+      }
       std::vector<std::string> names{"object"};
       for (const BodySpec& b : s.bodies) names.push_back(b.name);
       for (size_t i = 0; i < pairs.size(); ++i) {
@@ -408,7 +410,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
         p.finish();
         if (!given) p.fail(pairs[i], "friction", "missing (the Coulomb coefficient)");
         for (const BodyPairFriction& g : s.friction_pairs) {
-          if (g.a == f.a && g.b == f.b) p.fail(bodies, "bodies", "this pair of bodies is listed twice");
+          if (g.a == f.a && g.b == f.b) {
+            p.fail(bodies, "bodies", "this pair of bodies is listed twice");
+          }
         }
         s.friction_pairs.push_back(f);
       }

@@ -141,8 +141,9 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
   std::vector<double> mesh_mu;
   for (const ObstacleMesh& m : settings_.obstacle_meshes) mesh_mu.push_back(m.friction);
   const Eigen::MatrixXd body_mu = body_contact_ ? settings_.body_friction : Eigen::MatrixXd();
+  const auto num_bodies = static_cast<Eigen::Index>(settings_.bodies.size());
   if (body_contact_ && body_mu.size() > 0 &&
-      (body_mu.rows() != static_cast<Eigen::Index>(settings_.bodies.size()) || body_mu.cols() != body_mu.rows())) {
+      (body_mu.rows() != num_bodies || body_mu.cols() != num_bodies)) {
     throw InputError("simulation: the body friction coefficients are not square over the bodies");
   }
   if (any_pair_friction(mesh_mu, body_mu)) {

@@ -91,7 +91,8 @@ TEST(SceneObstacleMeshes, BadInputIsOneLineNamingConfigFileAndLine) {
       {"{file: rect.obj, rotation: [0, 0, 1]}",
        {"obstacles.meshes[0].rotation", "expected a mapping"}},
       {"{position: [0, 0, 0]}", {"obstacles.meshes[0].file", "missing"}},
-      {"{file: rect.obj, friction: -0.2}", {"test.yaml:5: key 'obstacles.meshes[0].friction'", "outside [0, inf]"}},
+      {"{file: rect.obj, friction: -0.2}",
+       {"test.yaml:5: key 'obstacles.meshes[0].friction'", "outside [0, inf]"}},
   };
   for (const Case& c : cases) {
     try {
