@@ -71,7 +71,7 @@ int run_gradcheck() {
   const rbaa::SceneWorld world = rbaa::make_world(scene, object_mesh);
   const rbaa::TetMesh& mesh = world.mesh;
   rbaa::SimulationSettings settings = rbaa::simulation_settings(scene, kappa);
-  if (world.bodies.size() > 1) settings.bodies = world.bodies;
+  settings.bodies = rbaa::simulated_bodies(world);
   const Eigen::VectorXd q0 =
       Eigen::Map<const Eigen::VectorXd>(mesh.V.data(), 3 * mesh.num_vertices());
   const Eigen::VectorXd v0 = rbaa::initial_velocities(q0, world.bodies);

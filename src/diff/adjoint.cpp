@@ -4,8 +4,6 @@
 #include <sstream>
 
 #include "rbaa/error.hpp"
-#include "rbaa/material/lame.hpp"
-#include "rbaa/sim/parallel.hpp"
 
 namespace rbaa {
 
@@ -65,25 +63,21 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
 
   const BdfIntegrator& bdf = sim.integrator();
   const std::vector<double>& c = bdf.predictor_coefficients();
-  const double w = bdf.potential_weight();
-  const Eigen::Vector3d gravity = sim.settings().gravity;
-  const bool consistent = sim.settings().mass == MassModel::kConsistent;
-  const Tets& T = sim.rest_mesh().T;
-  const ElasticForm& elastic = sim.elastic_form();
+  IncrementalPotential& E = sim.potential();
 
-  // Per-element constants of the parameter derivatives.
-  std::vector<LameDerivatives> dlame(nt);
-  for (int e = 0; e < nt; ++e) dlame[e] = lame_derivatives(materials.Y[e], materials.nu[e]);
-
-  Eigen::VectorXd q_hat(ndof), u(ndof), lambda(ndof);
+  Eigen::VectorXd q_hat(ndof), lambda(ndof);
   for (int k = N - 1; k >= 0; --k) {
     ++result.stats.steps;
-    const Eigen::VectorXd& qbar = adj.at(k + 1);
+    // Driven positions are known functions of time: no adjoint flows into them (the Hessian has
+    // identity rows there, so lambda is zero there too and the free dofs' adjoint is that of the
+    // step equation with the driven dofs fixed).
+    Eigen::VectorXd& qbar = adj.at(k + 1);
+    for (int d : sim.driven_dofs()) qbar[d] = 0.0;
     if (qbar.isZero(0.0)) continue;  // nothing later depends on this step
     const Eigen::VectorXd& x = traj.q[k + 1];
     ++result.stats.solves;
     // The forms' lag of this step (lagged friction's Hessian and history terms need it).
-    sim.potential().lag(traj.position(k), traj.position(k - 1));
+    E.lag(traj.position(k), traj.position(k - 1));
 
     const auto t_solve = std::chrono::steady_clock::now();
     const CholmodFactor* stored =
@@ -92,7 +86,6 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
       lambda = stored->solve(qbar);
       ++result.stats.stored_factor_solves;
     } else {
-      IncrementalPotential& E = sim.potential();
       E.solution_changed(x);
       const double f0 = factorizer.factorization_seconds();
       const int fb0 = factorizer.num_ldlt_fallbacks();
@@ -110,50 +103,19 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     const Eigen::VectorXd& q_n = traj.position(k);
     q_hat = q_n;
     for (int j = 1; j < static_cast<int>(c.size()); ++j) q_hat += c[j] * (traj.position(k - j) - q_n);
-    u = x - q_hat;
-    for (int v = 0; v < ndof / 3; ++v) u.segment<3>(3 * v) -= w * gravity;
+    sim.inertia_form().set_predictor(q_hat);
 
     // dC/dq_hat = M lambda, spread over the predictor's positions.
     const Eigen::VectorXd Mlambda = sim.inertia_form().multiply(lambda);
     for (int j = 0; j < static_cast<int>(c.size()); ++j) adj.at(k - j) += c[j] * Mlambda;
     // Forms that depend on q_n and q_{n-1} besides through q_hat (lagged friction's normal forces
     // and x~).
-    sim.potential().add_history_adjoint(x, lambda, adj.at(k), adj.at(k - 1));
+    E.add_history_adjoint(x, lambda, adj.at(k), adj.at(k - 1));
 
-    // dC/dtheta_e -= lambda_e^T [dM/dtheta_e u + w d(grad Psi)/dtheta_e], per element.
+    // dC/dtheta -= lambda^T dG/dtheta, summed over the forms (inertia and gravity through the
+    // element masses, elasticity through the moduli and alpha^3).
     const auto t_parameters = std::chrono::steady_clock::now();
-#pragma omp parallel for schedule(static) if (nt > kParallelCheapElements)
-    for (int e = 0; e < nt; ++e) {
-      Eigen::Matrix<double, 12, 1> le, ue;
-      for (int a = 0; a < 4; ++a) {
-        le.segment<3>(3 * a) = lambda.segment<3>(3 * T(e, a));
-        ue.segment<3>(3 * a) = u.segment<3>(3 * T(e, a));
-      }
-      // lambda^T (dM/dm_e) u: consistent (1/20)(1 + delta_ab) I_3 blocks, lumped (1/4) delta_ab.
-      double diag = 0;
-      for (int a = 0; a < 4; ++a) diag += le.segment<3>(3 * a).dot(ue.segment<3>(3 * a));
-      double s;
-      if (consistent) {
-        Eigen::Vector3d sl = Eigen::Vector3d::Zero(), su = Eigen::Vector3d::Zero();
-        for (int a = 0; a < 4; ++a) {
-          sl += le.segment<3>(3 * a);
-          su += ue.segment<3>(3 * a);
-        }
-        s = (sl.dot(su) + diag) / 20.0;
-      } else {
-        s = diag / 4.0;
-      }
-      Eigen::Matrix<double, 12, 1> g_mu, g_lambda;
-      elastic.element_gradient_parts(x, e, g_mu, g_lambda);
-      const double p_mu = le.dot(g_mu), p_lambda = le.dot(g_lambda);
-      const double V = elastic.rest_volume(e);
-      const LameDerivatives& d = dlame[e];
-      g.Y[e] -= w * (d.dmu_dY * p_mu + d.dlambda_dY * p_lambda);
-      g.nu[e] -= w * (d.dmu_dnu * p_mu + d.dlambda_dnu * p_lambda);
-      g.rho[e] -= materials.alpha[e] * V * s;
-      g.alpha[e] -= materials.rho[e] * V * s +
-                    w * 3.0 / materials.alpha[e] * (elastic.mu(e) * p_mu + elastic.lambda(e) * p_lambda);
-    }
+    E.add_material_adjoint(x, lambda, materials, g);
     result.stats.parameter_seconds += seconds_since(t_parameters);
   }
 
@@ -165,6 +127,8 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     result.dq0 += adj.at(-j);
     result.dv0 -= (j * h) * adj.at(-j);
   }
+  // Driven vertices start where their drive says, at its velocity: not initial-state unknowns.
+  for (int d : sim.driven_dofs()) result.dq0[d] = result.dv0[d] = 0.0;
   result.stats.seconds = seconds_since(t_start);
   return result;
 }

@@ -163,6 +163,66 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
 
 namespace {
 
+// Fits each plane's restitution (rigid.plane_restitution, reset to 1 first) to a deformable run's
+// first rebound off it, in the order of the contacts, so that the rigid twin starts every plane's
+// contact as the run did. A corner episode has no restitution, but the rigid twin meets the same
+// corner: its rebound ratio along each touched plane's normal across the episode is what
+// rigid_first_rebound measures on the twin, so that ratio is the target (when the normal velocity
+// reversed).
+std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
+                                                     const RigidMassProperties& mass,
+                                                     const RigidShape& shape, const Scene& scene,
+                                                     const std::vector<RigidBody>& further,
+                                                     RigidSettings& rigid, double tolerance) {
+  std::vector<RestitutionCalibration> calibrations;
+  rigid.plane_restitution.assign(scene.planes.size(), 1.0);
+  for (const Bounce& b : run.bounces) {
+    if (b.kind != BounceKind::kBounce && b.kind != BounceKind::kCorner) continue;
+    for (size_t i = 0; i < b.planes.size(); ++i) {
+      const int plane = b.planes[i];
+      const double in = b.normal_velocity_in[i], out_v = b.normal_velocity_out[i];
+      if (!(in < 0 && out_v > 0)) continue;
+      const double rebound = -out_v / in;
+      bool seen = false;
+      for (auto& c : calibrations) {
+        if (c.plane == plane) {
+          if (b.kind == BounceKind::kBounce) c.later_deformable_rebounds.push_back(rebound);
+          seen = true;
+        }
+      }
+      if (seen) continue;
+      RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration,
+                                                       plane, rebound, tolerance, further);
+      c.time = b.first_step * scene.time_step;
+      rigid.plane_restitution[plane] = c.restitution;
+      calibrations.push_back(c);
+    }
+  }
+  return calibrations;
+}
+
+double path_length(const RunTrace& t) {
+  double length = 0;
+  for (size_t i = 1; i < t.position.size(); ++i) length += (t.position[i] - t.position[i - 1]).norm();
+  return length;
+}
+
+// A deformable run against the rigid twin calibrated to it.
+OwnTwin own_twin(const SimulationRun& run, const RunTrace& trace, const std::string& name,
+                 const RigidMassProperties& mass, const RigidShape& shape, const Scene& scene,
+                 const std::vector<RigidBody>& further, RigidSettings rigid, double tolerance) {
+  OwnTwin t;
+  rigid.margin = std::min(rigid.margin, scene.d_hat);
+  t.calibrations = calibrate_to_run(run, mass, shape, scene, further, rigid, tolerance);
+  const auto start = std::chrono::steady_clock::now();
+  t.rigid = trace_from_rigid(name, simulate_rigid(mass, shape, scene, rigid, scene.duration, further),
+                             seconds_since(start));
+  t.gap = compare_runs(trace, t.rigid);
+  t.path_length = path_length(trace);
+  t.unexplained = t.path_length > 0 ? t.gap.max_position_gap / t.path_length : 0.0;
+  return t;
+}
+
 // The stiff baseline at one time step, the rigid reference calibrated to it, and how far the two
 // stray apart.
 struct BaselineAtStep {
@@ -185,34 +245,7 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   rigid.margin = std::min(rigid.margin, scene.d_hat);
   const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
   out.rigid_internal_step = scene.time_step / substeps;
-  // Fit each plane's restitution to the baseline's first rebound off it, in the order of the
-  // contacts, so that the rigid reference starts every plane's contact as the baseline did. A
-  // corner episode has no restitution, but the rigid twin meets the same corner: its rebound
-  // ratio along each touched plane's normal across the episode is what rigid_first_rebound
-  // measures on the twin, so that ratio is the target (when the normal velocity reversed).
-  rigid.plane_restitution.assign(scene.planes.size(), 1.0);
-  for (const Bounce& b : baseline.bounces) {
-    if (b.kind != BounceKind::kBounce && b.kind != BounceKind::kCorner) continue;
-    for (size_t i = 0; i < b.planes.size(); ++i) {
-      const int plane = b.planes[i];
-      const double in = b.normal_velocity_in[i], out_v = b.normal_velocity_out[i];
-      if (!(in < 0 && out_v > 0)) continue;
-      const double rebound = -out_v / in;
-      bool seen = false;
-      for (auto& c : out.calibrations) {
-        if (c.plane == plane) {
-          if (b.kind == BounceKind::kBounce) c.later_deformable_rebounds.push_back(rebound);
-          seen = true;
-        }
-      }
-      if (seen) continue;
-      RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration,
-                                                       plane, rebound, calibration_tolerance, further);
-      c.time = b.first_step * scene.time_step;
-      rigid.plane_restitution[plane] = c.restitution;
-      out.calibrations.push_back(c);
-    }
-  }
+  out.calibrations = calibrate_to_run(baseline, mass, shape, scene, further, rigid, calibration_tolerance);
   out.rigid = rigid;
 
   const auto rigid_start = std::chrono::steady_clock::now();
@@ -220,8 +253,7 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   out.rigid_reference = trace_from_rigid("rigid reference", rigid_states, seconds_since(rigid_start));
   const RunComparison gap = compare_runs(out.baseline, out.rigid_reference);
   out.trial.time_step = scene.time_step;
-  const auto& path = out.baseline.position;
-  for (size_t i = 1; i < path.size(); ++i) out.trial.path_length += (path[i] - path[i - 1]).norm();
+  out.trial.path_length = path_length(out.baseline);
   out.trial.disagreement = out.trial.path_length > 0 ? gap.max_position_gap / out.trial.path_length : 0.0;
   out.trial.seconds = seconds_since(start);
   return out;
@@ -319,10 +351,15 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
     ev.soft_Y = scene_in.Y_range.lo;
     const MaterialField soft = MaterialField::uniform(reference_mesh.num_tets(), ev.soft_Y, scene.reference_nu,
                                                       scene.reference_rho, 1.0);
-    ev.deformable_soft = trace_from_deformable("deformable soft uniform",
-                                               run_simulation(scene, reference_mesh, soft, sim_options));
+    const SimulationRun soft_run = run_simulation(scene, reference_mesh, soft, sim_options);
+    ev.deformable_soft = trace_from_deformable("deformable soft uniform", soft_run);
     ev.soft_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_soft);
+    ev.soft_own_twin = own_twin(soft_run, ev.deformable_soft, "rigid twin of the soft control", ref_mass,
+                                ref_shape, scene, further, options.rigid, options.calibration_tolerance);
   }
+  ev.adversarial_own_twin = own_twin(adversarial, ev.deformable_adversarial, "rigid twin of the adversarial",
+                                     adv_mass, adv_shape, scene, further, options.rigid,
+                                     options.calibration_tolerance);
   const auto start = std::chrono::steady_clock::now();
   const auto rigid_adv = simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration, further);
   ev.rigid_adversarial = trace_from_rigid("rigid adversarial", rigid_adv, seconds_since(start));
@@ -331,6 +368,13 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   ev.deformable_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_adversarial);
   ev.deformable_vs_rigid = compare_runs(ev.deformable_reference, ev.rigid_reference);
   ev.adversarial_vs_rigid = compare_runs(ev.deformable_adversarial, ev.rigid_reference);
+  ev.reference_own_twin.calibrations = ev.calibrations;
+  ev.reference_own_twin.rigid = ev.rigid_reference;
+  ev.reference_own_twin.gap = ev.deformable_vs_rigid;
+  ev.reference_own_twin.path_length = ev.baseline_path_length;
+  ev.reference_own_twin.unexplained = ev.baseline_disagreement;
+  ev.adversarial_mesh = adversarial_mesh;
+  ev.adversarial_materials = adversarial_materials;
   ev.attack_advantage = ev.deformable_vs_rigid.position_gap > 0
                             ? ev.deformable_vs_deformable.position_gap / ev.deformable_vs_rigid.position_gap
                             : INFINITY;

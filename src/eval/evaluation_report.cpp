@@ -6,6 +6,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
+#include "rbaa/eval/material_sections.hpp"
 #include "rbaa/eval/path_plot.hpp"
 #include "rbaa/io/atomic_file.hpp"
 #include "rbaa/io/number_text.hpp"
@@ -78,6 +79,13 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     series.push_back(std::move(s));
   }
   const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths", series, scene.planes);
+  const std::string materials_png =
+      ev.adversarial_mesh.num_tets() == 0
+          ? std::string()
+          : write_material_sections(dir + "/adversarial_materials",
+                                    scene.name + ": the adversarial object's materials through its centre of mass",
+                                    ev.adversarial_mesh, ev.adversarial_materials,
+                                    ev.adversarial_moments.centre_of_mass());
 
   nlohmann::json calibration = nlohmann::json::array();
   for (const auto& c : ev.calibrations) {
@@ -86,6 +94,19 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                            {"restitution", c.restitution}, {"iterations", c.iterations},
                            {"deformable_later_rebounds", c.later_deformable_rebounds}});
   }
+  auto own_twin_json = [&](const OwnTwin& t) {
+    nlohmann::json cal = nlohmann::json::array();
+    for (const auto& c : t.calibrations) {
+      cal.push_back({{"plane", c.plane}, {"deformable_first_rebound", c.deformable_rebound},
+                     {"rigid_first_rebound", c.rigid_rebound}, {"restitution", c.restitution},
+                     {"calibrated", c.calibrated}});
+    }
+    return nlohmann::json{{"calibration", cal}, {"vs_own_twin", comparison_json(t.gap)},
+                          {"path_length_m", t.path_length}, {"unexplained", t.unexplained}};
+  };
+  nlohmann::json own_twins = {{"reference", own_twin_json(ev.reference_own_twin)},
+                              {"adversarial", own_twin_json(ev.adversarial_own_twin)}};
+  if (!ev.deformable_soft.time.empty()) own_twins["soft_control"] = own_twin_json(ev.soft_own_twin);
   nlohmann::json search = nlohmann::json::array();
   for (const auto& t : ev.step_search) {
     search.push_back({{"time_step_s", t.time_step}, {"baseline_path_length_m", t.path_length},
@@ -113,6 +134,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                                             {"attack_over_softness", ev.soft_vs_deformable.position_gap > 0
                                                  ? ev.deformable_vs_deformable.position_gap / ev.soft_vs_deformable.position_gap
                                                  : INFINITY}}},
+      {"own_calibrated_twins", own_twins},
       {"attack_advantage", ev.attack_advantage},
       {"baseline_path_length_m", ev.baseline_path_length},
       {"baseline_disagreement", ev.baseline_disagreement},
@@ -121,7 +143,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"rigid_identical", ev.rigid_vs_rigid.max_position_gap <= 1e-9},
       {"timing_s", timing},
       {"files", files},
-      {"plot", png.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(png).filename().string())}};
+      {"plot", png.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(png).filename().string())},
+      {"materials_plot", materials_png.empty() ? nlohmann::json(nullptr)
+                                               : nlohmann::json(std::filesystem::path(materials_png).filename().string())}};
   write_file_atomically(dir + "/report.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 
   write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
@@ -175,6 +199,21 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                      : INFINITY, 3)
           << " x that (above 1 the optimisation adds to what softness alone does; below 1 it does not).\n";
     }
+    out << "\nEach deformable run against a rigid twin calibrated to its own rebounds (its own moments, "
+           "each plane's restitution fitted to its own first rebound off it): what remains is what no "
+           "rigid simulator with a tuned restitution explains.\n\n"
+        << "| run | fitted restitutions | gap at T (m) | max gap (m) | max gap / path | velocity angle at T (deg) |\n"
+        << "|---|---|---|---|---|---|\n";
+    auto own_row = [&](const std::string& name, const OwnTwin& t) {
+      out << "| " << name << " | ";
+      for (const auto& c : t.calibrations) out << "plane " << c.plane << ": " << fmt(c.restitution, 4) << (c.calibrated ? "" : " (not fitted)") << " ";
+      out << "| " << fmt(t.gap.position_gap) << " | " << fmt(t.gap.max_position_gap) << " | "
+          << fmt(100 * t.unexplained, 3) << " % | " << fmt(t.gap.velocity_angle_deg) << " |\n";
+    };
+    own_row("reference (stiff baseline)", ev.reference_own_twin);
+    own_row("adversarial", ev.adversarial_own_twin);
+    if (!ev.deformable_soft.time.empty()) own_row("soft uniform control", ev.soft_own_twin);
+    out << "\n";
     out << "As rigid bodies the two objects are " << (ev.rigid_vs_rigid.max_position_gap <= 1e-9 ? "" : "NOT ")
         << "identical (max gap " << fmt(ev.rigid_vs_rigid.max_position_gap) << " m, bar 1e-9 m).\n\n";
     if (ev.step_search.size() > 1) {
@@ -188,6 +227,10 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "| run | wall time (s) | CSV |\n|---|---|---|\n";
     for (const RunTrace* t : runs) out << "| " << t->name << " | " << fmt(t->seconds) << " | " << file_name(*t) << " |\n";
     if (!png.empty()) out << "\n![paths](paths.png)\n";
+    if (!materials_png.empty()) {
+      out << "\nThe adversarial object's Young's modulus, density and occupancy on the three coordinate planes "
+             "through its centre of mass:\n\n![materials](adversarial_materials.png)\n";
+    }
   });
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "rbaa/eval/gnuplot.hpp"
 #include "rbaa/io/atomic_file.hpp"
 #include "rbaa/io/number_text.hpp"
 
@@ -95,7 +96,7 @@ std::string write_path_plot(const std::string& stem, const std::string& title,
   write_file_atomically(stem + ".gp", [&](std::ostream& out) {
     out << "set terminal pngcairo size 1000,750 noenhanced\n"
         << "set output '" << base << ".png'\n"
-        << "set title '" << title << "'\n"
+        << "set title '" << gnuplot_quoted(title) << "'\n"
         << "set xlabel '" << (view.time_axis ? std::string("t (s)") : std::string(1, names[a]) + " (m)")
         << "'\nset ylabel '" << names[b] << " (m)'\n"
         << (view.time_axis ? "" : "set size ratio -1\n") << "set grid\nset key outside right top\n"
@@ -116,17 +117,11 @@ std::string write_path_plot(const std::string& stem, const std::string& title,
     out << "plot ";
     for (size_t i = 0; i < series.size(); ++i) {
       out << (i ? ", " : "") << "'" << base << "_" << i << ".dat' using 1:2 with lines lw 2 title '"
-          << series[i].label << "'";
+          << gnuplot_quoted(series[i].label) << "'";
     }
     out << "\n";
   });
-  const std::string dir = std::filesystem::path(stem).parent_path().string();
-  const std::string command = "cd '" + (dir.empty() ? std::string(".") : dir) + "' && gnuplot '" +
-                              base + ".gp' >/dev/null 2>&1";
-  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0 || std::system(command.c_str()) != 0) {
-    return "";
-  }
-  return stem + ".png";
+  return render_gnuplot(stem);
 }
 
 }  // namespace rbaa

@@ -172,6 +172,10 @@ std::vector<RigidBody> rigid_bodies(const TetMesh& stacked, const std::vector<Bo
         b.element_begin < 0 || b.element_end > stacked.num_tets() || b.num_elements() <= 0) {
       throw InputError("rigid bodies: " + b.name + "'s vertex or element range is not in the mesh");
     }
+    if (b.is_driven()) {
+      throw InputError("rigid bodies: " + b.name +
+                       " is driven, and the rigid twin has no kinematic bodies yet");
+    }
     TetMesh mesh;
     mesh.V = stacked.V.middleRows(b.vertex_begin, b.num_vertices());
     mesh.T = stacked.T.middleRows(b.element_begin, b.num_elements()).array() - b.vertex_begin;

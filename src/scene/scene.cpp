@@ -218,6 +218,82 @@ void read_pose(MapReader& o, Eigen::Vector3d& position, Eigen::Vector3d& velocit
   }
 }
 
+// A body's `driven` mapping (DriveSpec, scene.hpp), read from the body's reader `pose` after its
+// pose (a driven body may not set its own velocity or angular velocity).
+DriveSpec read_drive(MapReader& pose) {
+  const double inf = std::numeric_limits<double>::infinity();
+  DriveSpec d;
+  if (!pose.has("driven")) return d;
+  const YAML::Node node = pose.child("driven");
+  d.enabled = true;
+  d.key = pose.full("driven");
+  MapReader r(node, pose.source(), d.key);
+  const char* kSelectors = "give a list of vertex ids or {toward: [x, y, z], depth: m, count: n}";
+  if (!r.has("vertices")) r.fail(node, "vertices", std::string("missing (") + kSelectors + ")");
+  const YAML::Node v = r.child("vertices");
+  if (v.IsSequence()) {
+    if (v.size() == 0) r.fail(v, "vertices", "the list is empty");
+    for (const auto& item : v) {
+      const double id = r.to_number(item, "vertices", 0, 1e9, false, false);
+      if (id != std::floor(id))
+        r.fail(item, "vertices", "vertex id " + item.Scalar() + " is not a whole number");
+      d.vertices.push_back(static_cast<int>(id));
+    }
+    std::sort(d.vertices.begin(), d.vertices.end());
+    const auto twice = std::adjacent_find(d.vertices.begin(), d.vertices.end());
+    if (twice != d.vertices.end())
+      r.fail(v, "vertices", "vertex " + std::to_string(*twice) + " is listed twice");
+  } else if (v.IsMap()) {
+    MapReader sel(v, pose.source(), d.key + ".vertices");
+    d.toward = sel.vector3("toward", Eigen::Vector3d::Zero());
+    if (!(d.toward.norm() > 0))
+      sel.fail(v, "toward", "missing or zero direction (the end to select from)");
+    d.toward.normalize();
+    d.depth = sel.number("depth", -1, 0.0, inf);
+    d.count = sel.integer("count", 0, 1, 1000000000);
+    sel.finish();  // a misspelt key first: it explains a missing depth or count
+    if (d.depth < 0 && d.count == 0) sel.fail(v, "", "give depth, count or both besides toward");
+  } else {
+    r.fail(v, "vertices",
+           "'" + (v.IsScalar() ? v.Scalar() : std::string("?")) +
+               "' is not a vertex selector: " + kSelectors);
+  }
+  d.motion.axis = r.vector3("axis", Eigen::Vector3d::UnitZ());
+  if (!(d.motion.axis.norm() > 0))
+    r.fail(r.child("axis"), "axis", "value [0, 0, 0] is not a direction (zero axis)");
+  d.motion.axis.normalize();
+  d.motion.centre = r.vector3("centre", Eigen::Vector3d::Zero());
+  d.motion.velocity = r.vector3("velocity", Eigen::Vector3d::Zero());
+  if (r.has("angular_velocity")) {
+    const YAML::Node w = r.child("angular_velocity");
+    if (w.IsSequence()) {
+      if (w.size() == 0) r.fail(w, "angular_velocity", "the table is empty");
+      for (std::size_t i = 0; i < w.size(); ++i) {
+        if (!w[i].IsSequence() || w[i].size() != 2)
+          r.fail(w[i], "angular_velocity", "expected rows [t, omega] (s, rad/s)");
+        const Eigen::Vector2d row(
+            r.to_number(w[i][0], "angular_velocity", -inf, inf, false, false),
+            r.to_number(w[i][1], "angular_velocity", -inf, inf, false, false));
+        if (i > 0 && !(row[0] > d.motion.angular_velocity_table.back()[0])) {
+          r.fail(w[i], "angular_velocity",
+                 "time " + w[i][0].Scalar() + " s does not follow the previous row's");
+        }
+        d.motion.angular_velocity_table.push_back(row);
+      }
+    } else {
+      d.motion.angular_velocity = r.number("angular_velocity", 0, -inf, inf);
+    }
+  }
+  r.finish();
+  for (const char* key : {"velocity", "angular_velocity"}) {
+    if (pose.has(key)) {
+      pose.fail(pose.child(key), key,
+                "a driven body starts with its drive's motion; remove this key");
+    }
+  }
+  return d;
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& yaml_text, const std::string& source,
@@ -244,6 +320,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
   {
     MapReader o(top.child("object"), source, "object");
     read_pose(o, s.position, s.velocity, s.angular_velocity, s.rotation_axis, s.rotation_angle_deg);
+    s.driven = read_drive(o);
     o.finish();
   }
   if (top.has("bodies")) {
@@ -261,6 +338,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
       read_pose(b, body.position, body.velocity, body.angular_velocity, body.rotation_axis,
                 body.rotation_angle_deg);
       body.materials_file = resolve(b.text("materials", ""), base_dir);
+      body.driven = read_drive(b);
       b.finish();
       s.bodies.push_back(std::move(body));
     }

@@ -48,6 +48,19 @@ std::string file_content(const std::string& path) {
   return hex(fnv1a(bytes.str()));
 }
 
+// A drive's line; only driven bodies print one, so older fingerprints stay valid.
+void print_drive(std::ostream& t, const DriveSpec& d) {
+  if (!d.enabled) return;
+  t << d.key << " vertices";
+  for (int v : d.vertices) t << " " << v;
+  t << " toward " << vector3(d.toward) << " " << number(d.depth) << " " << d.count << " axis "
+    << vector3(d.motion.axis) << " centre " << vector3(d.motion.centre) << " omega "
+    << number(d.motion.angular_velocity);
+  for (const Eigen::Vector2d& row : d.motion.angular_velocity_table)
+    t << " " << number(row[0]) << " " << number(row[1]);
+  t << " velocity " << vector3(d.motion.velocity) << "\n";
+}
+
 }  // namespace
 
 std::string scene_fingerprint_text(const Scene& s) {
@@ -64,6 +77,7 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "object.velocity " << vector3(s.velocity) << "\n";
   t << "object.angular_velocity " << vector3(s.angular_velocity) << "\n";
   t << "object.rotation " << vector3(s.rotation_axis) << " " << number(s.rotation_angle_deg) << "\n";
+  print_drive(t, s.driven);
   for (const Plane& p : s.planes) {
     t << "plane " << vector3(p.normal) << " " << number(p.offset);
     // Frictionless planes print as before, so older fingerprints stay valid.
@@ -86,6 +100,7 @@ std::string scene_fingerprint_text(const Scene& s) {
       << number(b.mesh.volume) << " " << vector3(b.position) << " " << vector3(b.velocity) << " "
       << vector3(b.angular_velocity) << " " << vector3(b.rotation_axis) << " "
       << number(b.rotation_angle_deg) << " " << file_content(b.materials_file) << "\n";
+    print_drive(t, b.driven);
   }
   // Friction between bodies, only where there is some (older fingerprints stay valid).
   const Eigen::MatrixXd mu = body_friction(s);

@@ -1,5 +1,7 @@
 #include "rbaa/scene/scene_world.hpp"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -7,10 +9,79 @@
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
-#include "rbaa/sim/body_contact_form.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
+#include "rbaa/sim/body_contact_form.hpp"
 
 namespace rbaa {
+
+namespace {
+
+// The body-local ids (ascending) of a drive's vertices on a placed body mesh, turned by R from its
+// own frame, its centre of mass at c (DriveSpec, scene.hpp).
+std::vector<int> driven_vertex_ids(const Scene& scene, const DriveSpec& d, const TetMesh& mesh,
+                                   const Eigen::Matrix3d& R, const Eigen::Vector3d& c) {
+  const int n = mesh.num_vertices();
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw InputError(scene.source + ": key '" + d.key + "." + key + "': " + what);
+  };
+  if (!d.vertices.empty()) {
+    if (d.vertices.back() >= n) {
+      fail("vertices", "vertex " + std::to_string(d.vertices.back()) +
+                           " is not one of the body's " + std::to_string(n) + " vertices (0 .. " +
+                           std::to_string(n - 1) + ")");
+    }
+    return d.vertices;
+  }
+  const Eigen::Vector3d u = R * d.toward;
+  Eigen::VectorXd along(n);
+  for (int i = 0; i < n; ++i) along[i] = u.dot(mesh.V.row(i).transpose());
+  const double end = along.maxCoeff();
+  std::vector<int> candidates;
+  for (int i = 0; i < n; ++i) {
+    if (d.depth < 0 || along[i] >= end - d.depth) candidates.push_back(i);
+  }
+  if (d.count > 0) {
+    if (d.count > static_cast<int>(candidates.size())) {
+      std::ostringstream what;
+      what << "value " << d.count << " is more than the " << candidates.size() << " vertices ";
+      if (d.depth < 0)
+        what << "of the body";
+      else
+        what << "within depth " << d.depth << " m of its end";
+      fail("vertices.count", what.str());
+    }
+    // With a depth, the slab's vertices nearest the body's axis; without, the farthest along u.
+    std::vector<double> key(n);
+    for (int i : candidates) {
+      const Eigen::Vector3d r = mesh.V.row(i).transpose() - c;
+      key[i] = d.depth < 0 ? -along[i] : (r - r.dot(u) * u).norm();
+    }
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [&](int a, int b) { return key[a] < key[b]; });
+    candidates.resize(d.count);
+    std::sort(candidates.begin(), candidates.end());
+  }
+  return candidates;
+}
+
+// Makes `body` (placed `mesh`, first vertex `vertex_begin`, turned by R) driven by `d`: its driven
+// vertices, and its initial motion the drive's rigid motion at t = 0.
+void apply_drive(const Scene& scene, const DriveSpec& d, const TetMesh& mesh,
+                 const Eigen::Matrix3d& R, Body& body) {
+  if (!d.enabled) return;
+  for (int i : driven_vertex_ids(scene, d, mesh, R, body.centre)) {
+    body.driven_vertices.push_back(body.vertex_begin + i);
+  }
+  body.drive = d.motion;
+  body.velocity = d.motion.point_velocity(body.centre, 0.0);
+  body.angular_velocity = d.motion.angular_speed(0.0) * d.motion.axis;
+}
+
+Eigen::Matrix3d rotation(const Eigen::Vector3d& axis, double angle_deg) {
+  return Eigen::AngleAxisd(angle_deg * M_PI / 180.0, axis.normalized()).toRotationMatrix();
+}
+
+}  // namespace
 
 SimulationSettings simulation_settings(const Scene& scene, double kappa) {
   SimulationSettings s;
@@ -79,6 +150,8 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
   object.centre = scene.position;
   object.velocity = scene.velocity;
   object.angular_velocity = scene.angular_velocity;
+  apply_drive(scene, scene.driven, object_mesh,
+              rotation(scene.rotation_axis, scene.rotation_angle_deg), object);
   w.bodies.push_back(object);
   std::vector<TetMesh> meshes{object_mesh};
   std::vector<MaterialField> fields;
@@ -104,6 +177,7 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
     b.centre = spec.position;
     b.velocity = spec.velocity;
     b.angular_velocity = spec.angular_velocity;
+    apply_drive(scene, spec.driven, mesh, rotation(spec.rotation_axis, spec.rotation_angle_deg), b);
     w.bodies.push_back(b);
     meshes.push_back(std::move(mesh));
     fields.push_back(std::move(field));
@@ -143,6 +217,12 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
     }
   }
   return w;
+}
+
+std::vector<Body> simulated_bodies(const SceneWorld& world) {
+  const bool driven = std::any_of(world.bodies.begin(), world.bodies.end(),
+                                  [](const Body& b) { return b.is_driven(); });
+  return world.bodies.size() > 1 || driven ? world.bodies : std::vector<Body>{};
 }
 
 }  // namespace rbaa

@@ -107,7 +107,7 @@ SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
   run.mesh = world.mesh;
   run.materials = world.materials(materials, scene.source + " (materials)");
   run.bodies = world.bodies;
-  if (world.bodies.size() > 1) run.settings.bodies = world.bodies;
+  run.settings.bodies = simulated_bodies(world);
   Simulator sim(run.mesh, run.materials, run.settings, scene.source + " (materials)");
   if (options.on_newton_iteration) sim.newton().set_iteration_callback(options.on_newton_iteration);
   run.vertex_masses = sim.vertex_masses();

@@ -196,4 +196,44 @@ void ElasticForm::element_gradient_parts(const Eigen::VectorXd& q, int e,
       weight_[e] * snh::stress_lambda(F) * B_[e];
 }
 
+void ElasticForm::add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
+                                       double scale, const MaterialField& materials,
+                                       MaterialGradient& g) const {
+  const int nt = num_elements();
+#pragma omp parallel for schedule(static) if (nt > kParallelCheapElements)
+  for (int e = 0; e < nt; ++e) {
+    Eigen::Matrix<double, 12, 1> g_mu, g_lambda, ae;
+    for (int i = 0; i < 4; ++i) ae.segment<3>(3 * i) = a.segment<3>(3 * tets_(e, i));
+    element_gradient_parts(x, e, g_mu, g_lambda);
+    const double p_mu = ae.dot(g_mu), p_lambda = ae.dot(g_lambda);
+    const LameDerivatives d = lame_derivatives(materials.Y[e], materials.nu[e]);
+    g.Y[e] -= scale * (d.dmu_dY * p_mu + d.dlambda_dY * p_lambda);
+    g.nu[e] -= scale * (d.dmu_dnu * p_mu + d.dlambda_dnu * p_lambda);
+    // d(alpha^3 mu) / d alpha = 3 alpha^2 mu: the parts already hold alpha^3.
+    g.alpha[e] -= scale * 3.0 / materials.alpha[e] * (mu_[e] * p_mu + lambda_[e] * p_lambda);
+  }
+}
+
+void ElasticForm::add_material_tangent(const Eigen::VectorXd& x, const MaterialGradient& direction,
+                                       double scale, const MaterialField& materials,
+                                       Eigen::VectorXd& out) const {
+  if (direction.Y.size() == 0 && direction.nu.size() == 0 && direction.alpha.size() == 0) return;
+  auto entry = [](const Eigen::VectorXd& field, int e) { return field.size() == 0 ? 0.0 : field[e]; };
+  for (int e = 0; e < num_elements(); ++e) {
+    const double dY = entry(direction.Y, e), dnu = entry(direction.nu, e),
+                 dalpha = entry(direction.alpha, e);
+    if (dY == 0.0 && dnu == 0.0 && dalpha == 0.0) continue;
+    const LameDerivatives l = lame_derivatives(materials.Y[e], materials.nu[e]);
+    // d(alpha^3 mu) / alpha^3 = dmu + 3 mu dalpha / alpha, likewise lambda.
+    const double dmu = l.dmu_dY * dY + l.dmu_dnu * dnu + 3.0 * mu_[e] * dalpha / materials.alpha[e];
+    const double dlambda =
+        l.dlambda_dY * dY + l.dlambda_dnu * dnu + 3.0 * lambda_[e] * dalpha / materials.alpha[e];
+    if (dmu == 0.0 && dlambda == 0.0) continue;
+    Eigen::Matrix<double, 12, 1> g_mu, g_lambda;
+    element_gradient_parts(x, e, g_mu, g_lambda);
+    const Eigen::Matrix<double, 12, 1> ge = scale * (dmu * g_mu + dlambda * g_lambda);
+    for (int i = 0; i < 4; ++i) out.segment<3>(3 * tets_(e, i)) += ge.segment<3>(3 * i);
+  }
+}
+
 }  // namespace rbaa

@@ -60,13 +60,27 @@ double IncrementalPotential::value_difference(const Eigen::VectorXd& q0,
   return sum;
 }
 
-Eigen::VectorXd IncrementalPotential::gradient(const Eigen::VectorXd& q) const {
+Eigen::VectorXd IncrementalPotential::unconstrained_gradient(const Eigen::VectorXd& q) const {
   Eigen::VectorXd g = Eigen::VectorXd::Zero(q.size());
   for (const Term& t : terms_) {
     const ScopeTimer timer(t.seconds);
     t.form->add_gradient(q, t.weight, g);
   }
   return g;
+}
+
+Eigen::VectorXd IncrementalPotential::gradient(const Eigen::VectorXd& q) const {
+  Eigen::VectorXd g = unconstrained_gradient(q);
+  zero_fixed(g);
+  return g;
+}
+
+void IncrementalPotential::set_fixed_dofs(std::vector<int> dofs) {
+  fixed_dofs_ = std::move(dofs);
+  fixed_mask_.clear();
+  if (fixed_dofs_.empty()) return;
+  fixed_mask_.assign(hessian_.rows(), 0);
+  for (int d : fixed_dofs_) fixed_mask_.at(d) = 1;
 }
 
 const Eigen::SparseMatrix<double>& IncrementalPotential::hessian(const Eigen::VectorXd& q,
@@ -76,7 +90,9 @@ const Eigen::SparseMatrix<double>& IncrementalPotential::hessian(const Eigen::Ve
     const ScopeTimer timer(t.seconds);
     t.form->add_hessian(q, t.weight, kind, hessian_);
   }
-  return hessian_.assemble();
+  hessian_.assemble();
+  if (!fixed_mask_.empty()) hessian_.eliminate_dofs(fixed_mask_);
+  return hessian_.matrix();
 }
 
 double IncrementalPotential::max_step_size(const Eigen::VectorXd& q0,
@@ -123,6 +139,19 @@ void IncrementalPotential::add_history_tangent(const Eigen::VectorXd& x, const E
                                                const Eigen::VectorXd& dq_previous,
                                                Eigen::VectorXd& out) const {
   for (const Term& t : terms_) t.form->add_history_tangent(x, dq_n, dq_previous, t.weight, out);
+}
+
+void IncrementalPotential::add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
+                                                const MaterialField& materials,
+                                                MaterialGradient& g) const {
+  for (const Term& t : terms_) t.form->add_material_adjoint(x, a, t.weight, materials, g);
+}
+
+void IncrementalPotential::add_material_tangent(const Eigen::VectorXd& x,
+                                                const MaterialGradient& direction,
+                                                const MaterialField& materials,
+                                                Eigen::VectorXd& out) const {
+  for (const Term& t : terms_) t.form->add_material_tangent(x, direction, t.weight, materials, out);
 }
 
 }  // namespace rbaa

@@ -75,6 +75,14 @@ void check_bodies(const std::vector<Body>& bodies, const TetMesh& rest) {
                          " uses a vertex of another body");
       }
     }
+    for (std::size_t i = 0; i < b.driven_vertices.size(); ++i) {
+      const int v = b.driven_vertices[i];
+      if (v < b.vertex_begin || v >= b.vertex_end || (i > 0 && v <= b.driven_vertices[i - 1])) {
+        throw InputError("simulation: body " + b.name + "'s driven vertex " + std::to_string(v) +
+                         " is not in its vertex range or not in ascending order");
+      }
+    }
+    if (b.is_driven()) validate_prescribed_motion(b.drive, "simulation: body " + b.name);
     vertex = b.vertex_end;
     element = b.element_end;
   }
@@ -105,6 +113,15 @@ NewtonSettings newton_settings(const SimulationSettings& s, const TetMesh& rest)
   return n;
 }
 
+// The bodies without driven vertices: the rigid predictor and the rigid sub-step move these only.
+std::vector<Body> free_bodies(const std::vector<Body>& bodies) {
+  std::vector<Body> free;
+  for (const Body& b : bodies) {
+    if (!b.is_driven()) free.push_back(b);
+  }
+  return free;
+}
+
 }  // namespace
 
 Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
@@ -112,7 +129,9 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
     : rest_(rest),
       settings_(validated(settings)),
       integrator_(settings.integrator, settings.time_step),
-      newton_(newton_settings(settings, rest)) {
+      newton_(newton_settings(settings, rest)),
+      driven_dofs_(rbaa::driven_dofs(settings.bodies)),
+      free_bodies_(free_bodies(settings.bodies)) {
   validate_material_field(materials, rest.num_tets(), materials_source);
   surface_vertices_ = boundary_vertices(rest_);
   hessian_ = std::make_unique<SparseHessian>(rest_.T, rest_.num_vertices());
@@ -155,20 +174,25 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
   newton_.set_step_transform([this](const Eigen::VectorXd& x, const Eigen::VectorXd& dq) {
     return rigid_rotation_correction(x, dq, vertex_masses_, rigid_clusters_);
   });
-  if (settings_.rigid_predictor) newton_.set_subspace_step([this](const Eigen::VectorXd& x, const Eigen::VectorXd& g,
-                                   const Eigen::SparseMatrix<double>& H) {
-    return rigid_newton_step(x, g, H, vertex_masses_, settings_.bodies);
-  });
+  // Driven bodies keep out of the rigid sub-step: their rigid motion is prescribed.
+  const bool all_driven = !settings_.bodies.empty() && free_bodies_.empty();
+  if (settings_.rigid_predictor && !all_driven)
+    newton_.set_subspace_step([this](const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                     const Eigen::SparseMatrix<double>& H) {
+      return rigid_newton_step(x, g, H, vertex_masses_, free_bodies_);
+    });
 }
 
 void Simulator::build_mass_forms(const MaterialField& materials) {
   const Eigen::VectorXd density = materials.effective_density();
   vertex_masses_ = rbaa::vertex_masses(rest_, density);
   rigid_clusters_ = stiff_clusters(rest_, materials);
-  inertia_ = std::make_unique<InertiaForm>(mass_matrix(rest_, density, settings_.mass, *hessian_));
-  gravity_ = std::make_unique<GravityForm>(vertex_masses_, settings_.gravity);
+  const UnitElementMass unit(rest_, settings_.mass);
+  inertia_ = std::make_unique<InertiaForm>(mass_matrix(rest_, density, settings_.mass, *hessian_), unit);
+  gravity_ = std::make_unique<GravityForm>(vertex_masses_, settings_.gravity, unit);
   const double w = integrator_.potential_weight();
   potential_ = std::make_unique<IncrementalPotential>(*hessian_);
+  potential_->set_fixed_dofs(driven_dofs_);
   potential_->add(*inertia_, 1.0);
   potential_->add(*elastic_, w);
   if (settings_.gravity.squaredNorm() > 0) potential_->add(*gravity_, w);
@@ -220,8 +244,74 @@ void Simulator::reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) {
     }
   }
   if (body_contact_) body_contact_->check_separated(q0);
-  integrator_.initialize(q0, v0, settings_.gravity);
+  // A driven body starts carried by its drive: every vertex of it has the drive's velocity and
+  // the drive's (rigid) past instead of the ballistic one, so that BDF's first steps see the
+  // prescribed motion exactly and the free vertices start in step with the driven ones.
+  driven_origin_ = q0;
+  Eigen::VectorXd v = v0;
+  for (const Body& b : settings_.bodies) {
+    if (!b.is_driven()) continue;
+    for (int i = b.vertex_begin; i < b.vertex_end; ++i) {
+      v.segment<3>(3 * i) = b.drive.point_velocity(q0.segment<3>(3 * i), 0.0);
+    }
+  }
+  integrator_.initialize(q0, v, settings_.gravity);
+  for (int k = 1; k < 4; ++k) {
+    Eigen::VectorXd past = integrator_.past(k);
+    set_driven_positions(past, -k * settings_.time_step, true);
+    integrator_.set_past(k, past);
+  }
   step_ = 0;
+}
+
+void Simulator::set_driven_positions(Eigen::VectorXd& q, double t, bool whole_bodies) const {
+  for (const Body& b : settings_.bodies) {
+    if (!b.is_driven()) continue;
+    auto set = [&](int i) {
+      q.segment<3>(3 * i) = b.drive.position(driven_origin_.segment<3>(3 * i), t);
+    };
+    if (whole_bodies) {
+      for (int i = b.vertex_begin; i < b.vertex_end; ++i) set(i);
+    } else {
+      for (int i : b.driven_vertices) set(i);
+    }
+  }
+}
+
+Eigen::VectorXd Simulator::driven_start(const Eigen::VectorXd& q_n, double t,
+                                        const std::string& context) const {
+  // Each body's driven vertices in turn, so that the error names the body whose move fails.
+  Eigen::VectorXd from = q_n;
+  for (const Body& b : settings_.bodies) {
+    if (!b.is_driven()) continue;
+    Eigen::VectorXd to = from;
+    for (int i : b.driven_vertices)
+      to.segment<3>(3 * i) = b.drive.position(driven_origin_.segment<3>(3 * i), t);
+    if (!potential_->is_step_valid(from, to)) {
+      throw InputError(context + ": the prescribed motion of body " + b.name +
+                       " would intersect: moving its driven vertices from the last step's "
+                       "positions crosses or touches an obstacle or another body");
+    }
+    from = std::move(to);
+  }
+  return from;
+}
+
+// A driven body moved rigidly by its drive's motion over the step, t0 -> t1: the drive maps a
+// point x at t0 to c + t1 v + R(angle(t1) - angle(t0)) (x - c - t0 v).
+void Simulator::apply_drive_step(const Eigen::VectorXd& q_n, double t0, double t1,
+                                 Eigen::VectorXd& x) const {
+  for (const Body& b : settings_.bodies) {
+    if (!b.is_driven()) continue;
+    const PrescribedMotion& m = b.drive;
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(m.angle(t1) - m.angle(t0), m.axis).toRotationMatrix();
+    for (int i = b.vertex_begin; i < b.vertex_end; ++i) {
+      x.segment<3>(3 * i) =
+          m.centre + t1 * m.velocity + R * (q_n.segment<3>(3 * i) - m.centre - t0 * m.velocity);
+    }
+  }
+  set_driven_positions(x, t1);
 }
 
 StepStats Simulator::advance() {
@@ -230,6 +320,13 @@ StepStats Simulator::advance() {
   const Eigen::VectorXd q_hat = integrator_.predictor();
   inertia_->set_predictor(q_hat);
   potential_->lag(q_n, integrator_.past(1));
+  const double t0 = step_ * settings_.time_step, t1 = (step_ + 1) * settings_.time_step;
+  std::ostringstream context;
+  context << "step " << step_ + 1 << " (t = " << t1 << " s)";
+
+  // Driven vertices first move to their prescribed positions, alone (an error if that would
+  // intersect); every start below keeps them there, and Newton never moves them.
+  const Eigen::VectorXd q_start = driven_dofs_.empty() ? q_n : driven_start(q_n, t1, context.str());
 
   // Start from the ballistic guess q_hat + w g (the exact answer for a free, undeformed body:
   // M (q - q_hat) = w M g) when the straight path to it is admissible, else from q_n. Starting
@@ -238,8 +335,10 @@ StepStats Simulator::advance() {
   Eigen::VectorXd guess = q_hat;
   const double w = integrator_.potential_weight();
   for (int v = 0; v < rest_.num_vertices(); ++v) guess.segment<3>(3 * v) += w * settings_.gravity;
-  Eigen::VectorXd x = q_n;
-  if (potential_->max_step_size(q_n, guess) >= 1.0 && potential_->is_step_valid(q_n, guess)) {
+  if (!driven_dofs_.empty()) set_driven_positions(guess, t1);
+  Eigen::VectorXd x = q_start;
+  if (potential_->max_step_size(q_start, guess) >= 1.0 &&
+      potential_->is_step_valid(q_start, guess)) {
     x = guess;
   }
   // For a spinning body the ballistic guess is far from rigid: q_hat extrapolates every vertex
@@ -248,16 +347,19 @@ StepStats Simulator::advance() {
   // the Hessian's rotations ~1e6-fold over their inertia (measured 1.6e5 against 0.106 kg m^2), so
   // Newton corrected the step's rotation only once the stretch was gone: 5 iterations per
   // free-flight step. The previous shape moved rigidly onto the guess (its centre of mass and
-  // best-fit rotation) has no such stretch; it is used when admissible and lower in energy.
+  // best-fit rotation) has no such stretch; it is used when admissible and lower in energy. A
+  // driven body moves by its drive's rigid motion over the step instead.
   if (settings_.rigid_predictor) {
-    const Eigen::VectorXd rigid = rigid_predictor(q_n, guess, vertex_masses_, settings_.bodies);
-    if (rigid.allFinite() && potential_->max_step_size(q_n, rigid) >= 1.0 &&
-        potential_->is_step_valid(q_n, rigid) && potential_->value_difference(x, rigid) < 0) {
+    Eigen::VectorXd rigid = guess;
+    if (settings_.bodies.empty() || !free_bodies_.empty()) {
+      rigid = rigid_predictor(q_n, guess, vertex_masses_, free_bodies_);
+    }
+    if (!driven_dofs_.empty()) apply_drive_step(q_n, t0, t1, rigid);
+    if (rigid.allFinite() && potential_->max_step_size(q_start, rigid) >= 1.0 &&
+        potential_->is_step_valid(q_start, rigid) && potential_->value_difference(x, rigid) < 0) {
       x = rigid;
     }
   }
-  std::ostringstream context;
-  context << "step " << step_ + 1 << " (t = " << (step_ + 1) * settings_.time_step << " s)";
   const NewtonResult r = newton_.minimize(*potential_, x, context.str());
   integrator_.push(x);
   ++step_;
@@ -271,6 +373,7 @@ StepStats Simulator::advance() {
   s.line_search_halvings = r.line_search_halvings;
   s.ccd_limited_steps = r.ccd_limited_steps;
   s.projected_fallbacks = r.projected_fallbacks;
+  s.extrapolations = r.extrapolations;
   s.gradient_seconds = r.gradient_seconds;
   s.assembly_seconds = r.assembly_seconds;
   s.factorization_seconds = r.factorization_seconds;
@@ -285,6 +388,11 @@ StepStats Simulator::advance() {
   if (body_contact_) {
     s.min_distance = std::min(s.min_distance, body_contact_->min_distance(x));
     s.active_pairs += body_contact_->num_active_pairs(x);
+  }
+  if (!driven_dofs_.empty()) {
+    // The step equation's residual at the driven dofs: w times the force the drives exert.
+    const Eigen::VectorXd G = potential_->unconstrained_gradient(x);
+    for (int d : driven_dofs_) s.dirichlet_force[d % 3] += G[d] / w;
   }
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;

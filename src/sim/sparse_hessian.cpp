@@ -266,6 +266,18 @@ const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
   return matrix_;
 }
 
+void SparseHessian::eliminate_dofs(const std::vector<char>& fixed) {
+  double* values = matrix_.valuePtr();
+  const int* outer = matrix_.outerIndexPtr();
+  const int* inner = matrix_.innerIndexPtr();
+  for (int j = 0; j < matrix_.cols(); ++j) {
+    for (int k = outer[j]; k < outer[j + 1]; ++k) {
+      const int i = inner[k];
+      if (fixed[i] || fixed[j]) values[k] = i == j ? 1.0 : 0.0;
+    }
+  }
+}
+
 Eigen::SparseMatrix<double> SparseHessian::zero_matrix() const {
   Eigen::SparseMatrix<double> Z = matrix_;
   Eigen::Map<Eigen::VectorXd>(Z.valuePtr(), Z.nonZeros()).setZero();

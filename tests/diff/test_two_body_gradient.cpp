@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "rbaa/diff/gradient_check.hpp"
@@ -59,12 +61,40 @@ TEST(TwoBodyGradient, AdjointMatchesFiniteDifferencesPerFieldAndBody) {
       std::printf("\n");
       EXPECT_GE(r.active_contact_steps, 3);
       for (const DirectionCheck& d : r.directions) EXPECT_NE(d.adjoint, 0.0);
-      // WEAKER THAN SPEC'S BAR for nu (open, issue 19): Y, rho and alpha meet 1e-5 (measured
-      // <= 1.6e-7 per body), but nu's derivative is 20x smaller than Y's and one of its
-      // directions measured 5e-4 at s = 1e-2 (noise-dominated: 1e-6 at 4 s). The deep impact step
-      // stops near Newton's round-off floor, where energy differences are noise (the solver now
-      // takes full steps there when they lower the gradient's norm: before that, Y and alpha were
-      // noise at up to 5e-3 too). The adjoint is the tangent's transpose to 1e-15 (next test).
+      // Along the body's own gradient (issue 19: check along the gradient direction too) the
+      // slope is the largest the body's entries allow, so central differences resolve it for
+      // every field, nu included: SPEC's bar, no exception.
+      {
+        const Eigen::VectorXd theta = ds.initial_theta(true);
+        Eigen::VectorXd g;
+        f.evaluate(theta, &g);
+        Eigen::VectorXd d = Eigen::VectorXd::Zero(g.size());
+        // theta holds #T entries (Y, nu, rho) or one per interior element (alpha).
+        for (int i = 0; i < g.size(); ++i) {
+          const int e = field == DesignField::kAlpha ? ds.interior()[i] : i;
+          if (e >= body.element_begin && e < body.element_end) d[i] = g[i];
+        }
+        ASSERT_GT(d.norm(), 0.0);
+        const double slope = d.norm();
+        d /= slope;
+        // Along the gradient C curves most: at s = 1e-2 the O(s^2) truncation measured 4e-6 ..
+        // 2.7e-5; at 1e-3 it is 100x smaller while the slope s (>= 6e-10) stays far above C's
+        // noise (~4e-16, below).
+        const double s = 1e-3;
+        const double fd = (f.evaluate(theta + s * d, nullptr) - f.evaluate(theta - s * d, nullptr)) / (2 * s);
+        const double error = std::abs(fd - slope) / std::max(std::abs(fd), slope);
+        std::printf("two bodies, %-5s of %s along its gradient: slope %.6e, relative error %.2e\n",
+                    design_field_name(field), body.name.c_str(), slope, error);
+        EXPECT_LE(error, 1e-5) << design_field_name(field) << " of " << body.name;
+      }
+      // Random directions: Y, rho and alpha meet SPEC's 1e-5 (<= 2.3e-7 per body). One random
+      // direction of nu of A measures 1.3e-3 at s = 1e-2 and 1.6e-5 at 4 s: noise-dominated, and
+      // measured why (2026-11-26): its slope is 5.6e-11, 9e-5 of A's nu gradient (6.2e-7: the
+      // direction is nearly orthogonal to it), so s x slope = 5.6e-13 against C's noise of
+      // ~4e-16 (C scanned over s = -0.02 .. 0.02 is a symmetric quadratic to that level; the
+      // noise follows Newton's tolerance: 1.7e-14 at 1e-10, 4e-16 at 1e-12). Such a direction
+      // is accepted only as noise-dominated; the gradient-direction check above holds nu to
+      // SPEC's bar without exception.
       for (const DirectionCheck& d : r.directions) {
         if (field != DesignField::kNu) {
           EXPECT_LE(d.relative_error, 1e-5) << design_field_name(field) << " of " << body.name;

@@ -143,10 +143,65 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     const double percent = std::stod(summary.substr(at + lead.size()));
     EXPECT_NEAR(percent, 100 * ev.baseline_disagreement, 1e-2 * 100 * ev.baseline_disagreement + 1e-12);
   }
+  // The adversarial object's materials picture (data and script always; PNG with gnuplot).
+  EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial_materials.dat"));
+  if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
+    EXPECT_EQ(report["materials_plot"].get<std::string>(), "adversarial_materials.png");
+  }
   for (const char* f : {"summary.md", "rigid_reference.csv", "rigid_adversarial.csv", "deformable_reference.csv",
                         "deformable_adversarial.csv", "deformable_soft_uniform.csv", "paths.gp"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
+  std::filesystem::remove_all(dir);
+}
+
+// Issue 20 item 4: every deformable run also gets a rigid twin calibrated to its own rebound.
+// Each twin reproduces its own run's first rebound (1 %); report.json carries the figures. (At
+// this coarse step all three balls rebound at ~0.43 and every twin strays ~9 % of the path: the
+// step, not the object, dominates, which is why evaluate refines its step; a fitted rebound
+// is also no promise of a smaller largest gap, so none is asserted.)
+TEST(Evaluation, EachRunHasARigidTwinCalibratedToItsOwnRebound) {
+  const Scene scene = ball_scene();
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField adv = adversarial_field(mesh, scene);
+  EvaluationOptions options;
+  options.duration = 0.2;
+  options.time_step = scene.time_step;
+  const Evaluation ev = evaluate(scene, mesh, mesh, adv, options);
+  ASSERT_FALSE(ev.deformable_soft.time.empty());
+  struct Named {
+    const char* name;
+    const OwnTwin* twin;
+    const RunTrace* run;
+  };
+  for (const Named& n : {Named{"reference", &ev.reference_own_twin, &ev.deformable_reference},
+                         Named{"adversarial", &ev.adversarial_own_twin, &ev.deformable_adversarial},
+                         Named{"soft", &ev.soft_own_twin, &ev.deformable_soft}}) {
+    ASSERT_EQ(n.twin->calibrations.size(), 1u) << n.name;
+    const RestitutionCalibration& c = n.twin->calibrations[0];
+    ASSERT_TRUE(c.calibrated) << n.name;
+    EXPECT_NEAR(c.rigid_rebound / c.deformable_rebound, 1.0, 0.01) << n.name;
+    const RunComparison against_reference_twin = compare_runs(*n.run, ev.rigid_reference);
+    std::printf("%-11s: own restitution %.4f (rebound %.4f), unexplained %.3e of %.3f m; against the "
+                "reference's twin %.3e m, own twin %.3e m\n",
+                n.name, c.restitution, c.deformable_rebound, n.twin->unexplained, n.twin->path_length,
+                against_reference_twin.max_position_gap, n.twin->gap.max_position_gap);
+    EXPECT_NEAR(n.twin->unexplained, n.twin->gap.max_position_gap / n.twin->path_length, 1e-15);
+  }
+  // The baseline's own twin is the rigid reference itself.
+  EXPECT_EQ(ev.reference_own_twin.gap.max_position_gap, ev.deformable_vs_rigid.max_position_gap);
+  // The soft control's twin is fitted to the soft run's rebound, not the baseline's.
+  EXPECT_NE(ev.soft_own_twin.calibrations[0].deformable_rebound, ev.calibrations[0].deformable_rebound);
+
+  const std::string dir = ::testing::TempDir() + "/rbaa_own_twin_" + std::to_string(::getpid());
+  write_evaluation(ev, scene, dir);
+  std::ifstream in(dir + "/report.json");
+  const auto twins = nlohmann::json::parse(in)["own_calibrated_twins"];
+  EXPECT_DOUBLE_EQ(twins["adversarial"]["unexplained"].get<double>(), ev.adversarial_own_twin.unexplained);
+  EXPECT_DOUBLE_EQ(twins["soft_control"]["calibration"][0]["restitution"].get<double>(),
+                   ev.soft_own_twin.calibrations[0].restitution);
+  EXPECT_DOUBLE_EQ(twins["reference"]["vs_own_twin"]["max_com_gap_m"].get<double>(),
+                   ev.deformable_vs_rigid.max_position_gap);
   std::filesystem::remove_all(dir);
 }
 

@@ -113,7 +113,7 @@ TEST(InertiaAndGravityForms, DerivativesMatchFiniteDifferences) {
   SparseHessian H(mesh.T, mesh.num_vertices());
   const Eigen::VectorXd density = Eigen::VectorXd::LinSpaced(mesh.num_tets(), 800, 11300);
   for (MassModel model : {MassModel::kConsistent, MassModel::kLumped}) {
-    InertiaForm inertia(mass_matrix(mesh, density, model, H));
+    InertiaForm inertia(mass_matrix(mesh, density, model, H), UnitElementMass(mesh, model));
     inertia.set_predictor(test::deformed(mesh, 0.01, 3));
     const test::FdErrors e = test::check_form(inertia, test::deformed(mesh, 0.02, 4), 1e-6, H);
     EXPECT_LE(e.gradient, 1e-6);
@@ -124,7 +124,8 @@ TEST(InertiaAndGravityForms, DerivativesMatchFiniteDifferences) {
     const Eigen::VectorXd mv = vertex_masses(mesh, density);
     for (int v = 0; v < mesh.num_vertices(); ++v) EXPECT_NEAR(Mones[3 * v], mv[v], 1e-12 * mv[v]);
   }
-  const GravityForm gravity(vertex_masses(mesh, density), Eigen::Vector3d(0, 0, -9.8));
+  const GravityForm gravity(vertex_masses(mesh, density), Eigen::Vector3d(0, 0, -9.8),
+                            UnitElementMass(mesh, MassModel::kConsistent));
   const Eigen::VectorXd q = test::deformed(mesh, 0.02, 4);
   const Eigen::VectorXd g = test::form_gradient(gravity, q);
   const Eigen::VectorXd g_fd =

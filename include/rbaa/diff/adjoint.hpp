@@ -20,6 +20,12 @@
 // its adjoints end up in dC/dq_0 and dC/dv_0. The adjoint assumes G = 0: Newton's tolerance must
 // be tight (SPEC section 2).
 //
+// Driven (Dirichlet) vertices (Body::driven_vertices) follow a prescribed motion: their positions
+// depend on nothing the adjoint differentiates, and G = 0 holds at the free dofs only. qbar is
+// zeroed at the driven dofs before each solve, and H (the simulator's potential eliminates them:
+// identity rows and columns) gives lambda = 0 there, so lambda is the free block's adjoint and the
+// terms above sum over the free rows only. dC/dq_0 and dC/dv_0 are zero at driven dofs.
+//
 // Factor storage: kStore keeps a copy of Newton's last factor of every step during the forward
 // run when Newton reports it as the exact Hessian at the returned iterate (StepStats::
 // exact_factor); the backward step is then one solve. kRebuild (and kStore's non-exact steps)

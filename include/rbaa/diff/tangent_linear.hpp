@@ -7,6 +7,8 @@
 //   H dq_{n+1} = M dq_hat - [ dM(dm) (q_{n+1} - q_hat - w g) + w dgrad Psi(dtheta) ],
 //   dq_hat = sum_j c_j dq_{n-j},   dq_{-j} = dq_0 - j h dv_0 (the ballistic history),
 //
+// at the free dofs; driven (Dirichlet) dofs are prescribed, so dq_k = 0 there for every k (a
+// direction's q0 and v0 entries there are ignored) and H has identity rows there (adjoint.hpp);
 // with H the exact Hessian at the converged q_{n+1}, factorised afresh here (never Newton's or the
 // adjoint's stored factor). Then dC = sum_k dC/dq_k . dq_k + dC/d(material)_direct . dtheta.
 // Because it uses the same linearisation as the adjoint, the two agree to round-off

@@ -53,6 +53,17 @@ struct RestitutionCalibration {
   std::vector<double> later_deformable_rebounds;  ///< restitutions of later one-plane bounces
 };
 
+/// A deformable run against a rigid twin calibrated to that run itself: the same object's rigid
+/// body (its own moments), each plane's restitution fitted to the run's own first rebound off it.
+/// What remains between the two is what no rigid simulator with a tuned restitution explains.
+struct OwnTwin {
+  std::vector<RestitutionCalibration> calibrations;
+  RunTrace rigid;
+  RunComparison gap;          ///< deformable run vs its own twin
+  double path_length = 0;     ///< of the deformable run's centre of mass (m)
+  double unexplained = 0;     ///< gap.max_position_gap / path_length
+};
+
 /// One step tried for the stiff baseline: how far it strays from its calibrated rigid twin.
 struct BaselineTrial {
   double time_step = 0;      ///< s
@@ -100,12 +111,20 @@ struct Evaluation {
   RunTrace deformable_soft;
   RunComparison soft_vs_deformable;
   double soft_Y = 0;
+  /// Each deformable run against a rigid twin calibrated to its own rebounds (issue 20): the
+  /// baseline's is rigid_reference; the adversarial object's and the soft control's (empty
+  /// when not run) are fitted here. A uniform object should be explained well; an adversarial
+  /// one, if its effect is more than a changed restitution, should not.
+  OwnTwin reference_own_twin, adversarial_own_twin, soft_own_twin;
   double attack_advantage = 0;  ///< deformable_vs_deformable gap / deformable_vs_rigid gap
   /// How well the stiff baseline agrees with the rigid reference: deformable_vs_rigid's largest
   /// gap over the baseline's path length. Above ~1 % the comparison measures the time
   /// discretisation more than the object; a smaller evaluation step helps (README).
   double baseline_path_length = 0;  ///< m
   double baseline_disagreement = 0;
+  /// The adversarial object as evaluated (placed at the scene's pose), for its pictures.
+  TetMesh adversarial_mesh;
+  MaterialField adversarial_materials;
 };
 
 /// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's

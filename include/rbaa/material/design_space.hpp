@@ -57,11 +57,6 @@ struct DesignSpaceOptions {
   static DesignSpaceOptions from_scene(const Scene& scene);
 };
 
-/// Material-space gradient dC/dY, dC/dnu, dC/drho, dC/dalpha, each #T (an empty vector means zero).
-struct MaterialGradient {
-  Eigen::VectorXd Y, nu, rho, alpha;
-};
-
 class DesignSpace {
  public:
   /// Throws rbaa::InputError when an option is out of range (initial values must lie strictly

@@ -23,6 +23,12 @@ struct MaterialField {
   Eigen::VectorXd effective_density() const { return rho.cwiseProduct(alpha); }
 };
 
+/// Material-space gradient dC/dY, dC/dnu, dC/drho, dC/dalpha, each #T (an empty vector means zero).
+/// Also a direction in material space (the tangent-linear pass).
+struct MaterialGradient {
+  Eigen::VectorXd Y, nu, rho, alpha;
+};
+
 /// Throws rbaa::InputError naming `source` when the field does not have `num_tets` entries in
 /// every array, or holds a non-finite or physically meaningless value (Y <= 0, nu outside
 /// (-1, 0.5), rho <= 0, alpha outside (0, 1]).

@@ -28,6 +28,35 @@ struct MeshSource {
   double volume = 0;
 };
 
+/// A body's kinematic (Dirichlet) vertices and their prescribed motion: the `driven` key of
+/// `object` or of bodies[i].
+///
+///   driven:
+///     vertices: [3, 17, 40]                       # body-local vertex ids, or a selector:
+///     vertices: {toward: [0, 0, -1], count: 14}   # the 14 vertices farthest along toward
+///     vertices: {toward: [0, 0, -1], depth: 1e-6} # every vertex within depth (m) of that end
+///     vertices: {toward: [0, 0, -1], depth: 0.012, count: 14}
+///                                  # of those, the 14 nearest the body's axis along toward
+///                                  # (the line through its centre of mass)
+///     axis: [0, 0, 1]              # rotation axis (world; normalised; default z)
+///     centre: [0, 0, 0]            # a point of the axis at t = 0 (world, m; default origin)
+///     angular_velocity: 3.927      # rad/s about axis, right-handed; or a piecewise-linear table
+///                                  # [[t, omega], ...] (s, rad/s; times increasing)
+///     velocity: [0, 0, 0]          # the axis' translation (m/s)
+///
+/// A selector's `toward` is in the body's own frame (its mesh's axes, before `rotation`), so that
+/// "the knob end" stays the same wherever the scene turns the body. A driven body starts with its
+/// drive's rigid motion: its `velocity` and `angular_velocity` keys are refused.
+struct DriveSpec {
+  bool enabled = false;
+  std::string key;            ///< "object.driven" or "bodies[i].driven", for messages
+  std::vector<int> vertices;  ///< listed body-local ids (ascending, unique), or empty
+  Eigen::Vector3d toward = Eigen::Vector3d::Zero();  ///< selector direction (unit), or zero
+  double depth = -1;                                 ///< selector slab depth (m); < 0: not given
+  int count = 0;                                     ///< selector count; 0: not given
+  PrescribedMotion motion;
+};
+
 /// A further body besides the object (bodies[i]): its mesh, initial state and fixed material. The
 /// object is the body an attack designs; these keep their material.
 struct BodySpec {
@@ -42,6 +71,7 @@ struct BodySpec {
   /// A materials file (.msh with fields, or materials CSV) for its elements; empty: the scene's
   /// reference material.
   std::string materials_file;
+  DriveSpec driven;  ///< its driven vertices (bodies[i].driven), if any
 };
 
 /// A Coulomb coefficient between two bodies (contact.pairs[i]): body 0 is the object, body
@@ -69,6 +99,7 @@ struct Scene {
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< rad/s
   Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitX();
   double rotation_angle_deg = 0.0;
+  DriveSpec driven;  ///< the object's driven vertices (object.driven), if any
 
   /// Further bodies (the config's `bodies` list), stacked after the object in the simulated mesh.
   std::vector<BodySpec> bodies;

@@ -44,7 +44,14 @@ struct SceneWorld {
 /// The world of a scene whose object is `object_mesh` (placed: make_scene_mesh, or moved by
 /// place_centre_of_mass) and centred at scene.position: meshes and places every further body
 /// (make_body_mesh), with its materials file or the reference material, its centre of mass moved
-/// to its position. Throws rbaa::InputError naming both bodies when two start closer than d_hat.
+/// to its position. A body with a `driven` key gets its driven vertices (DriveSpec's selection on
+/// its placed mesh) and its drive, and starts with the drive's rigid motion. Throws
+/// rbaa::InputError naming both bodies when two start closer than d_hat, and naming the key when
+/// a drive's vertex list or count does not fit its body.
 SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh);
+
+/// The bodies a simulation of the world needs in its settings: all of them when there are several
+/// or one is driven, else none (the whole mesh is the one body).
+std::vector<Body> simulated_bodies(const SceneWorld& world);
 
 }  // namespace rbaa

@@ -32,6 +32,8 @@ class BdfIntegrator {
   const std::vector<double>& predictor_coefficients() const { return coefficients_; }
   /// The weight w of the potentials: (4/9) h^2 or h^2.
   double potential_weight() const { return weight_; }
+  /// Replaces past(k) (k >= 1), e.g. with a prescribed motion's past after initialize().
+  void set_past(int k, const Eigen::VectorXd& q) { history_.at(k) = q; }
   /// Appends q_{n+1}.
   void push(const Eigen::VectorXd& q_next);
   /// The newest position q_n.

@@ -31,6 +31,11 @@ class ElasticForm : public Form {
   void add_gradient(const Eigen::VectorXd& q, double scale, Eigen::VectorXd& grad) const override;
   void add_hessian(const Eigen::VectorXd& q, double scale, HessianKind kind,
                    SparseHessian& hessian) const override;
+  /// G's term scale grad Psi through mu(Y, nu), lambda(Y, nu) and the factor alpha^3.
+  void add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double scale,
+                            const MaterialField& materials, MaterialGradient& g) const override;
+  void add_material_tangent(const Eigen::VectorXd& x, const MaterialGradient& direction, double scale,
+                            const MaterialField& materials, Eigen::VectorXd& out) const override;
 
   int num_elements() const { return static_cast<int>(tets_.rows()); }
   /// F of element e at q.

@@ -3,11 +3,13 @@
 // contact): value, gradient and Hessian behind one interface, summed with weights by the
 // IncrementalPotential. Besides derivatives every form answers max_step_size and is_step_valid,
 // so the line search asks the forms (the contact form runs CCD) instead of knowing about contact
-// (the PolyFEM design, STYLE.md). Forms are forward-only; parameter derivatives for the adjoint
-// live beside them (the elastic form exposes its per-element split into mu and lambda parts).
+// (the PolyFEM design, STYLE.md). For the adjoint and the tangent-linear pass each form also
+// answers how its term of the step equation depends on the history positions and on the
+// materials (the hooks below), so that the backward pass sums over forms and names none.
 
 #include <Eigen/Core>
 
+#include "rbaa/material/material_field.hpp"
 #include "rbaa/sim/sparse_hessian.hpp"
 
 namespace rbaa {
@@ -61,6 +63,18 @@ class Form {
   virtual void add_history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,
                                    const Eigen::VectorXd& dq_previous, double scale,
                                    Eigen::VectorXd& out) const {}
+
+  // Material hooks: how G's term scale grad E at fixed positions x depends on the per-element
+  // materials (Y, nu, rho, alpha; `materials` is the field the step was taken with). Forms whose
+  // energy does not depend on the materials (contact, friction) keep the defaults.
+
+  /// g += -(dG/dtheta)^T a, per element and field.
+  virtual void add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double scale,
+                                    const MaterialField& materials, MaterialGradient& g) const {}
+  /// out += (dG/dtheta) direction (a direction's empty fields are zero).
+  virtual void add_material_tangent(const Eigen::VectorXd& x, const MaterialGradient& direction,
+                                    double scale, const MaterialField& materials,
+                                    Eigen::VectorXd& out) const {}
 };
 
 }  // namespace rbaa

@@ -5,13 +5,16 @@
 #include <Eigen/Core>
 
 #include "rbaa/sim/form.hpp"
+#include "rbaa/sim/mass_matrix.hpp"
 
 namespace rbaa {
 
 class GravityForm : public Form {
  public:
-  /// vertex_masses: #V (mass_matrix.hpp); gravity in m/s^2.
-  GravityForm(const Eigen::VectorXd& vertex_masses, const Eigen::Vector3d& gravity);
+  /// vertex_masses: #V (mass_matrix.hpp); gravity in m/s^2; `unit` the mass matrix's derivative
+  /// per element mass (the material hooks).
+  GravityForm(const Eigen::VectorXd& vertex_masses, const Eigen::Vector3d& gravity,
+              UnitElementMass unit);
 
   const char* name() const override { return "gravity"; }
   double value(const Eigen::VectorXd& q) const override { return -force_.dot(q); }
@@ -23,11 +26,19 @@ class GravityForm : public Form {
   }
   void add_hessian(const Eigen::VectorXd&, double, HessianKind, SparseHessian&) const override {}
 
+  /// G's term -M g through the element masses.
+  void add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double scale,
+                            const MaterialField& materials, MaterialGradient& g) const override;
+  void add_material_tangent(const Eigen::VectorXd& x, const MaterialGradient& direction, double scale,
+                            const MaterialField& materials, Eigen::VectorXd& out) const override;
+
   /// The stacked force M g (3 #V).
   const Eigen::VectorXd& force() const { return force_; }
 
  private:
   Eigen::VectorXd force_;
+  Eigen::VectorXd gravity_;  // g on every vertex (3 #V)
+  UnitElementMass unit_;
 };
 
 }  // namespace rbaa

@@ -6,13 +6,16 @@
 #include <Eigen/SparseCore>
 
 #include "rbaa/sim/form.hpp"
+#include "rbaa/sim/mass_matrix.hpp"
 
 namespace rbaa {
 
 class InertiaForm : public Form {
  public:
-  /// M: the mass matrix, lower triangle, in the Hessian's pattern (mass_matrix()).
-  explicit InertiaForm(Eigen::SparseMatrix<double> M) : M_(std::move(M)) {}
+  /// M: the mass matrix, lower triangle, in the Hessian's pattern (mass_matrix()); `unit` its
+  /// derivative per element mass (the material hooks).
+  InertiaForm(Eigen::SparseMatrix<double> M, UnitElementMass unit)
+      : M_(std::move(M)), unit_(std::move(unit)) {}
 
   void set_predictor(const Eigen::VectorXd& q_hat) { q_hat_ = q_hat; }
   const Eigen::VectorXd& predictor() const { return q_hat_; }
@@ -27,9 +30,15 @@ class InertiaForm : public Form {
   void add_gradient(const Eigen::VectorXd& q, double scale, Eigen::VectorXd& grad) const override;
   void add_hessian(const Eigen::VectorXd& q, double scale, HessianKind kind,
                    SparseHessian& hessian) const override;
+  /// G's term M (x - q_hat) through the element masses.
+  void add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double scale,
+                            const MaterialField& materials, MaterialGradient& g) const override;
+  void add_material_tangent(const Eigen::VectorXd& x, const MaterialGradient& direction, double scale,
+                            const MaterialField& materials, Eigen::VectorXd& out) const override;
 
  private:
   Eigen::SparseMatrix<double> M_;
+  UnitElementMass unit_;
   Eigen::VectorXd q_hat_;
 };
 

@@ -18,6 +18,9 @@
 // An optional subspace sub-step (set_subspace_step) is tried before every factorisation after the
 // first; the simulator gives the body's six rigid motions (rigid_newton_step), which finishes the
 // rotation that a Newton step on a stiff stressed body leaves behind to second order.
+//
+// The potential's fixed (Dirichlet) dofs never move: the step, its transform and the sub-step are
+// zero there, so the iterate keeps the values the caller gave them.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -49,6 +52,7 @@ struct NewtonResult {
   int ccd_limited_steps = 0;      ///< steps shortened by the forms' max_step_size
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
   int subspace_steps = 0;         ///< sub-steps taken (set_subspace_step), no factorisation each
+  int extrapolations = 0;         ///< step doublings taken after full steps (newton_solver.cpp)
   /// Stopped above the tolerance at the round-off floor: kFloorWindow steps in a row, all below
   /// kFloorFactor x tolerance, none smaller than the smallest step before them (no
   /// progress at all, only noise). step_velocity is then the floor's latest step and

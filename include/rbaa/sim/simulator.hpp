@@ -78,10 +78,16 @@ class Simulator {
   Simulator(const TetMesh& rest, const MaterialField& materials, const SimulationSettings& settings,
             const std::string& materials_source = "materials");
 
-  /// Starts from positions q0 and per-dof velocities v0 (3 #V), with the ballistic past. Throws
-  /// rbaa::InputError if a surface vertex starts on or beyond a plane.
+  /// Starts from positions q0 and per-dof velocities v0 (3 #V), with the ballistic past. A driven
+  /// body starts carried by its drive instead: all its vertices take the drive's velocity and
+  /// (rigid) past, and its driven vertices then follow the drive from their positions in q0.
+  /// Throws rbaa::InputError if a surface vertex starts on or beyond a plane.
   void reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0);
-  /// One time step; throws rbaa::SolverError naming the step when Newton fails.
+  /// One time step; throws rbaa::SolverError naming the step when Newton fails. With driven
+  /// vertices the step first moves them alone from q_n to their prescribed positions at t_{n+1}
+  /// (rbaa::InputError naming the step and the body if that move is not admissible: it crosses,
+  /// touches or closes to within 1e-3 of a gap to an obstacle or another body), then minimises
+  /// over the other dofs with them fixed.
   StepStats advance();
   /// reset + settings.num_steps advances, recording everything.
   Trajectory run(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
@@ -98,6 +104,9 @@ class Simulator {
   double velocity_tolerance() const { return newton_.settings().velocity_tolerance; }
   const Eigen::VectorXd& vertex_masses() const { return vertex_masses_; }
   const std::vector<int>& surface_vertices() const { return surface_vertices_; }
+  /// The driven vertices' dofs (ascending): fixed in every step's minimisation, and known
+  /// functions of time to the adjoint and the tangent.
+  const std::vector<int>& driven_dofs() const { return driven_dofs_; }
 
   BdfIntegrator& integrator() { return integrator_; }
   IncrementalPotential& potential() { return *potential_; }
@@ -119,6 +128,14 @@ class Simulator {
 
  private:
   void build_mass_forms(const MaterialField& materials);
+  // Sets q's driven entries (every vertex of a driven body with `whole_bodies`) to where the drives
+  // carry their initial positions by time t.
+  void set_driven_positions(Eigen::VectorXd& q, double t, bool whole_bodies = false) const;
+  // q_n with the driven vertices moved to time t, checked body by body (see advance()).
+  Eigen::VectorXd driven_start(const Eigen::VectorXd& q_n, double t,
+                               const std::string& context) const;
+  // Moves each driven body of x to q_n's shape carried by its drive from t0 to t1.
+  void apply_drive_step(const Eigen::VectorXd& q_n, double t0, double t1, Eigen::VectorXd& x) const;
 
   TetMesh rest_;
   SimulationSettings settings_;
@@ -137,6 +154,9 @@ class Simulator {
   std::unique_ptr<IncrementalPotential> potential_;
   BdfIntegrator integrator_;
   NewtonSolver newton_;
+  std::vector<int> driven_dofs_;
+  std::vector<Body> free_bodies_;  // settings_.bodies without the driven ones
+  Eigen::VectorXd driven_origin_;  // q0 of the last reset: where the drives start from
   int step_ = 0;
 };
 

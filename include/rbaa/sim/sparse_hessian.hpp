@@ -64,6 +64,10 @@ class SparseHessian {
   /// Sums the buffers into the matrix (lower triangle, compressed column: the base pattern plus
   /// the extra blocks added since set_zero()) and returns it.
   const Eigen::SparseMatrix<double>& assemble();
+  /// Decouples the dofs flagged in `fixed` (3 #V entries; nonzero: fixed) in the last assembled
+  /// matrix: zeroes their rows and columns and puts 1 on their diagonals (Dirichlet elimination,
+  /// the pattern kept). A solve with a right-hand side that is zero there gives exact zeros there.
+  void eliminate_dofs(const std::vector<char>& fixed);
   /// The last assembled matrix.
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
   /// A matrix with the last assemble's pattern and zero values.

@@ -21,8 +21,12 @@ struct StepStats {
   int line_search_halvings = 0;
   int ccd_limited_steps = 0;
   int projected_fallbacks = 0;
+  int extrapolations = 0;        ///< Newton step doublings (newton_solver.cpp)
   double min_distance = 0;       ///< smallest vertex-obstacle distance at the new q (m)
   int active_pairs = 0;          ///< contact pairs closer than d_hat at the new q
+  /// Sum of the forces (N) the drives exert on their driven vertices at the new q: the full
+  /// step equation's residual at the driven dofs over the potentials' weight (zero without).
+  Eigen::Vector3d dirichlet_force = Eigen::Vector3d::Zero();
   double seconds = 0;            ///< wall time of the step
   // Of which (NewtonResult's split): gradients, Hessian assembly, factorisations, solves,
   // line search.
