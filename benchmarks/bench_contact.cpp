@@ -268,7 +268,8 @@ void BM_BallAgainstRimNewtonStep(benchmark::State& state) {
   const double rim_R = 0.4572 / 2 + 0.01, rim_r = 0.01;
   placed.V.rowwise() += Eigen::RowVector3d(rim_R, 0, rim_r + 0.121 + 5e-4);
   const Eigen::Vector3d velocity(-2, 1, -2.5);
-  const double mass = 2500 * rbaa::vertex_masses(placed, Eigen::VectorXd::Ones(placed.num_tets())).sum();
+  const double mass =
+      2500 * rbaa::vertex_masses(placed, Eigen::VectorXd::Ones(placed.num_tets())).sum();
   s.kappa = rbaa::barrier_stiffness_from_energy(mass, velocity.norm(), kDHat);
   rbaa::Simulator sim(placed, rbaa::MaterialField::uniform(placed.num_tets(), 1e13, 0.28, 2500), s);
   const Eigen::VectorXd q0 = sim.rest_positions();
@@ -290,16 +291,21 @@ void BM_BallAgainstRimNewtonStep(benchmark::State& state) {
 BENCHMARK(BM_BallAgainstRimNewtonStep)->Unit(benchmark::kMillisecond);
 
 // Four 5 cm cubes (CGAL, ~500 tets each, Y 1e10) stacked 0.5 mm apart on the floor z = 0, one
-// 0.01 s step under gravity: every face pair in body-body contact. Counters as above, with the
-// body-contact form's time (its broad phase, narrow phase, derivatives and CCD).
-void BM_FourCubeStackNewtonStep(benchmark::State& state) {
+// 0.01 s step under gravity, with friction mu between the cubes and against the floor.
+struct FourCubes {
+  rbaa::TetMesh stack;
+  rbaa::SimulationSettings settings;
+};
+
+FourCubes four_cube_stack(double mu) {
   static const rbaa::TetMesh cube = [] {
     rbaa::ShapeParameters p;
     p.side = 0.05;
     return rbaa::mesh_shape("cube", 500, p);
   }();
   const int n = 4;
-  rbaa::TetMesh stack;
+  FourCubes f;
+  rbaa::TetMesh& stack = f.stack;
   stack.V.resize(n * cube.num_vertices(), 3);
   stack.T.resize(n * cube.num_tets(), 4);
   std::vector<rbaa::Body> bodies;
@@ -316,15 +322,26 @@ void BM_FourCubeStackNewtonStep(benchmark::State& state) {
     stack.T.middleRows(body.element_begin, cube.num_tets()) = cube.T.array() + body.vertex_begin;
     bodies.push_back(body);
   }
-  rbaa::SimulationSettings s;
+  rbaa::SimulationSettings& s = f.settings;
   s.time_step = 0.01;
   s.num_steps = 1;
   s.d_hat = kDHat;
   s.planes = {rbaa::Plane{}};
+  s.planes[0].friction = mu;
   s.bodies = bodies;
+  s.body_friction = Eigen::MatrixXd::Constant(n, n, mu);
+  s.body_friction.diagonal().setZero();
   const double mass = 2500 * 0.05 * 0.05 * 0.05 * n;
   s.kappa = rbaa::barrier_stiffness_from_energy(mass, std::sqrt(2 * 9.8 * 0.1), kDHat);
-  rbaa::Simulator sim(stack, rbaa::MaterialField::uniform(stack.num_tets(), 1e10, 0.3, 2500), s);
+  return f;
+}
+
+// The frictionless stack: every face pair in body-body contact. Counters as above, with the
+// body-contact form's time (its broad phase, narrow phase, derivatives and CCD).
+void BM_FourCubeStackNewtonStep(benchmark::State& state) {
+  const FourCubes f = four_cube_stack(0.0);
+  rbaa::Simulator sim(f.stack, rbaa::MaterialField::uniform(f.stack.num_tets(), 1e10, 0.3, 2500),
+                      f.settings);
   const Eigen::VectorXd q0 = sim.rest_positions();
   const Eigen::VectorXd v0 = Eigen::VectorXd::Zero(q0.size());
   double step = 0, contact = 0;
@@ -342,5 +359,43 @@ void BM_FourCubeStackNewtonStep(benchmark::State& state) {
   report_step(state, step, contact, iterations, pairs);
 }
 BENCHMARK(BM_FourCubeStackNewtonStep)->Unit(benchmark::kMillisecond);
+
+// The same step with the paper's friction, mu = 0.4 between the cubes and against the floor
+// (SPEC section 7's four-cube scene): arg 0 from rest (static friction: the lagged pairs hold,
+// no slip), arg 1 with the top cube thrown sideways at 0.5 m/s (it slides on the cube below).
+// Counters as above, plus the friction forms' time (mesh pairs and the floor, lagging included)
+// per iteration and its share, and the lagged friction pairs.
+void BM_FourCubeStackFrictionNewtonStep(benchmark::State& state) {
+  const FourCubes f = four_cube_stack(0.4);
+  rbaa::Simulator sim(f.stack, rbaa::MaterialField::uniform(f.stack.num_tets(), 1e10, 0.3, 2500),
+                      f.settings);
+  const Eigen::VectorXd q0 = sim.rest_positions();
+  Eigen::VectorXd v0 = Eigen::VectorXd::Zero(q0.size());
+  if (state.range(0) == 1) {
+    const rbaa::Body& top = f.settings.bodies.back();
+    for (int v = top.vertex_begin; v < top.vertex_end; ++v) v0[3 * v] = 0.5;
+  }
+  double step = 0, contact = 0, friction = 0;
+  int iterations = 0, pairs = 0, lagged = 0;
+  for (auto _ : state) {
+    sim.reset(q0, v0);
+    sim.potential().reset_timers();
+    const rbaa::StepStats st = sim.advance();
+    step += st.seconds;
+    contact += sim.potential().form_seconds(*sim.body_contact_form()) +
+               sim.potential().form_seconds(sim.contact_form());
+    friction += sim.potential().form_seconds(*sim.pair_friction_form()) +
+                sim.potential().form_seconds(*sim.plane_friction_form());
+    iterations += st.newton_iterations;
+    pairs = st.active_pairs;
+    lagged = sim.pair_friction_form()->num_lagged_pairs() +
+             sim.plane_friction_form()->num_lagged_pairs();
+  }
+  report_step(state, step, contact, iterations, pairs);
+  state.counters["friction_ms_per_iteration"] = 1e3 * friction / iterations;
+  state.counters["friction_share"] = friction / step;
+  state.counters["lagged_friction_pairs"] = lagged;
+}
+BENCHMARK(BM_FourCubeStackFrictionNewtonStep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

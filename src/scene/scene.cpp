@@ -396,6 +396,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
           r.finish();
         }
         o.scale = m.number("scale", o.scale, 0.0, inf, true);
+        // NaN: contact.friction's, filled in below.
+        o.friction = m.number("friction", std::numeric_limits<double>::quiet_NaN(), 0.0, inf);
         m.finish();
         SurfaceMesh surface;
         try {
@@ -472,9 +474,55 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     }
     s.friction = c.number("friction", s.friction, 0.0, inf);
     s.friction_eps_v = c.number("friction_eps_v", s.friction_eps_v, 0.0, inf, true);
+    if (c.has("pairs")) {
+      // [{bodies: [name, name], friction: mu}]: names are "object" and the bodies' names.
+      const YAML::Node pairs = c.child("pairs");
+      if (!pairs.IsSequence()) {
+        c.fail(pairs, "pairs", "expected a list of {bodies: [a, b], friction}");
+      }
+      std::vector<std::string> names{"object"};
+      for (const BodySpec& b : s.bodies) names.push_back(b.name);
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        const std::string key = "contact.pairs[" + std::to_string(i) + "]";
+        MapReader p(pairs[i], source, key);
+        const YAML::Node bodies = p.child("bodies");
+        if (!bodies || !bodies.IsSequence() || bodies.size() != 2 || !bodies[0].IsScalar() ||
+            !bodies[1].IsScalar()) {
+          p.fail(bodies ? bodies : pairs[i], "bodies", "expected two body names [a, b]");
+        }
+        int index[2];
+        for (int k = 0; k < 2; ++k) {
+          const std::string name = bodies[k].Scalar();
+          const auto it = std::find(names.begin(), names.end(), name);
+          if (it == names.end()) {
+            std::string list;
+            for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+            p.fail(bodies[k], "bodies", "'" + name + "' names no body (bodies: " + list + ")");
+          }
+          index[k] = static_cast<int>(it - names.begin());
+        }
+        if (index[0] == index[1]) p.fail(bodies, "bodies", "a body has no friction with itself");
+        BodyPairFriction f;
+        f.a = std::min(index[0], index[1]);
+        f.b = std::max(index[0], index[1]);
+        const bool given = p.has("friction");
+        f.friction = p.number("friction", 0.0, 0.0, inf);
+        p.finish();
+        if (!given) p.fail(pairs[i], "friction", "missing (the Coulomb coefficient)");
+        for (const BodyPairFriction& g : s.friction_pairs) {
+          if (g.a == f.a && g.b == f.b) {
+            p.fail(bodies, "bodies", "this pair of bodies is listed twice");
+          }
+        }
+        s.friction_pairs.push_back(f);
+      }
+    }
     c.finish();
     for (Plane& plane : s.planes) {
       if (std::isnan(plane.friction)) plane.friction = s.friction;
+    }
+    for (ObstacleMesh& mesh : s.obstacle_meshes) {
+      if (std::isnan(mesh.friction)) mesh.friction = s.friction;
     }
   }
   {

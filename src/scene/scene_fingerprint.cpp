@@ -6,6 +6,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "rbaa/scene/scene_world.hpp"
+
 namespace rbaa {
 
 namespace {
@@ -85,7 +87,10 @@ std::string scene_fingerprint_text(const Scene& s) {
   // Only scenes with obstacle meshes print these lines, so older fingerprints stay valid.
   for (const ObstacleMesh& m : s.obstacle_meshes) {
     t << "obstacle.mesh " << file_content(m.file) << " " << vector3(m.position) << " "
-      << vector3(m.rotation_axis) << " " << number(m.rotation_angle_deg) << " " << number(m.scale) << "\n";
+      << vector3(m.rotation_axis) << " " << number(m.rotation_angle_deg) << " " << number(m.scale);
+    // Frictionless meshes print as before.
+    if (m.friction != 0) t << " friction " << number(m.friction) << " " << number(s.friction_eps_v);
+    t << "\n";
   }
   // Likewise only scenes with further bodies print theirs.
   for (const BodySpec& b : s.bodies) {
@@ -96,6 +101,16 @@ std::string scene_fingerprint_text(const Scene& s) {
       << vector3(b.angular_velocity) << " " << vector3(b.rotation_axis) << " "
       << number(b.rotation_angle_deg) << " " << file_content(b.materials_file) << "\n";
     print_drive(t, b.driven);
+  }
+  // Friction between bodies, only where there is some (older fingerprints stay valid).
+  const Eigen::MatrixXd mu = body_friction(s);
+  for (Eigen::Index a = 0; a < mu.rows(); ++a) {
+    for (Eigen::Index b = a + 1; b < mu.cols(); ++b) {
+      if (mu(a, b) != 0) {
+        t << "friction bodies " << a << " " << b << " " << number(mu(a, b)) << " "
+          << number(s.friction_eps_v) << "\n";
+      }
+    }
   }
   t << "gravity " << vector3(s.gravity) << "\n";
   t << "time.step " << number(s.time_step) << "\n";

@@ -94,11 +94,24 @@ SimulationSettings simulation_settings(const Scene& scene, double kappa) {
   s.obstacle_meshes = scene.obstacle_meshes;
   s.d_hat = scene.d_hat;
   s.friction_eps_v = scene.friction_eps_v;
+  s.body_friction = body_friction(scene);
   s.kappa = kappa;
   s.newton_tolerance = scene.newton_tolerance;
   s.newton_max_iterations = scene.newton_max_iterations;
   s.rigid_predictor = scene.newton_rigid_predictor;
   return s;
+}
+
+Eigen::MatrixXd body_friction(const Scene& scene) {
+  if (scene.bodies.empty()) return {};
+  const Eigen::Index n = static_cast<Eigen::Index>(scene.bodies.size()) + 1;
+  Eigen::MatrixXd mu = Eigen::MatrixXd::Constant(n, n, scene.friction);
+  for (const BodyPairFriction& p : scene.friction_pairs) {
+    mu(p.a, p.b) = p.friction;
+    mu(p.b, p.a) = p.friction;
+  }
+  mu.diagonal().setZero();
+  return mu;
 }
 
 double scene_barrier_stiffness(const Scene& scene, const TetMesh& placed) {

@@ -42,6 +42,10 @@ auto key(const BodyPair& p) { return std::make_tuple(static_cast<int>(p.kind), p
 
 }  // namespace
 
+ContactPairPoints BodyContactForm::points(const BodyPair& p, const Eigen::VectorXd& q) const {
+  return pair_points(*this, p, q);
+}
+
 BodyContactForm::BodyContactForm(const TetMesh& rest, std::vector<int> body_of_vertex, double d_hat,
                                  double kappa)
     : body_of_vertex_(std::move(body_of_vertex)), barrier_(d_hat), kappa_(kappa) {

@@ -234,6 +234,17 @@ bool MeshObstacleForm::is_step_valid(const Eigen::VectorXd& q0, const Eigen::Vec
   return ccd(q0, q1, 0.0, s) >= 1.0;
 }
 
+int MeshObstacleForm::mesh_of_pair(const ObstaclePair& p) const {
+  const int v = p.kind == ObstaclePairKind::kVertexTriangle   ? broad_.F()(p.obstacle, 0)
+                : p.kind == ObstaclePairKind::kTriangleVertex ? p.obstacle
+                                                              : broad_.E()(p.obstacle, 0);
+  return mesh_of_vertex_[v];
+}
+
+ContactPairPoints MeshObstacleForm::points(const ObstaclePair& p, const Eigen::VectorXd& q) const {
+  return pair_points(*this, p, q);
+}
+
 double MeshObstacleForm::min_distance(const Eigen::VectorXd& q) const {
   double s = std::numeric_limits<double>::infinity();
   for (const ObstaclePair& p : active(q)) s = std::min(s, p.squared_distance);

@@ -157,6 +157,19 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
         surface_vertices_, settings_.planes, mu, settings_.d_hat, settings_.kappa,
         settings_.friction_eps_v, settings_.integrator, settings_.time_step);
   }
+  std::vector<double> mesh_mu;
+  for (const ObstacleMesh& m : settings_.obstacle_meshes) mesh_mu.push_back(m.friction);
+  const Eigen::MatrixXd body_mu = body_contact_ ? settings_.body_friction : Eigen::MatrixXd();
+  const auto num_bodies = static_cast<Eigen::Index>(settings_.bodies.size());
+  if (body_contact_ && body_mu.size() > 0 &&
+      (body_mu.rows() != num_bodies || body_mu.cols() != num_bodies)) {
+    throw InputError("simulation: the body friction coefficients are not square over the bodies");
+  }
+  if (any_pair_friction(mesh_mu, body_mu)) {
+    pair_friction_ = std::make_unique<PairFrictionForm>(
+        mesh_contact_.get(), mesh_mu, body_contact_.get(), body_mu, settings_.friction_eps_v,
+        settings_.integrator, settings_.time_step);
+  }
   build_mass_forms(materials);
   newton_.set_step_transform([this](const Eigen::VectorXd& x, const Eigen::VectorXd& dq) {
     return rigid_rotation_correction(x, dq, vertex_masses_, rigid_clusters_);
@@ -186,6 +199,7 @@ void Simulator::build_mass_forms(const MaterialField& materials) {
   if (!settings_.planes.empty()) potential_->add(*contact_, w);
   if (mesh_contact_) potential_->add(*mesh_contact_, w);
   if (plane_friction_) potential_->add(*plane_friction_, w);
+  if (pair_friction_) potential_->add(*pair_friction_, w);
   if (body_contact_) potential_->add(*body_contact_, w);
 }
 

@@ -175,5 +175,62 @@ TEST(SceneFriction, PlanesTakeTheirOwnCoefficientOrTheContactDefault) {
   }
 }
 
+// contact.pairs: coefficients between named bodies over contact.friction's default, into the
+// settings' symmetric matrix; bad pairs refused in one line naming the key.
+TEST(SceneFriction, PairsOfBodiesTakeTheirOwnCoefficientOrTheContactDefault) {
+  const std::string three = two_cubes(
+      "  - name: third\n"
+      "    mesh: {shape: cube, side: 0.05, target_tets: 100}\n"
+      "    position: [0, 0.3, 0]\n");
+  const Scene s = parse_scene(three +
+                                  "contact:\n  friction: 0.2\n  pairs:\n"
+                                  "    - {bodies: [second, object], friction: 0.6}\n"
+                                  "    - {bodies: [third, second], friction: 0}\n",
+                              "test.yaml", "");
+  const Eigen::MatrixXd mu = simulation_settings(s, 1.0).body_friction;
+  ASSERT_EQ(mu.rows(), 3);
+  ASSERT_EQ(mu.cols(), 3);
+  EXPECT_EQ(mu(0, 1), 0.6);
+  EXPECT_EQ(mu(1, 0), 0.6);
+  EXPECT_EQ(mu(0, 2), 0.2);  // object - third: the default
+  EXPECT_EQ(mu(2, 1), 0.0);
+  EXPECT_EQ(mu(1, 1), 0.0);
+  // No further bodies: nothing between bodies.
+  const Scene alone =
+      parse_scene("mesh: {shape: cube}\ncontact: {friction: 0.2}\n", "test.yaml", "");
+  EXPECT_EQ(body_friction(alone).size(), 0);
+  // The fingerprint sees friction between bodies, and only when there is some.
+  const Scene none = parse_scene(two_cubes(), "test.yaml", "");
+  const Scene zero = parse_scene(
+      two_cubes("contact: {pairs: [{bodies: [object, second], friction: 0}]}\n"), "test.yaml", "");
+  EXPECT_EQ(scene_fingerprint_text(none), scene_fingerprint_text(zero));
+  EXPECT_NE(scene_fingerprint(none), scene_fingerprint(s));
+  const std::vector<std::pair<std::string, std::vector<std::string>>> bad = {
+      {"contact: {pairs: [{bodies: [object, second], friction: -0.4}]}",
+       {"key 'contact.pairs[0].friction'", "outside [0, inf]"}},
+      {"contact: {pairs: [{bodies: [object, fourth], friction: 0.4}]}",
+       {"key 'contact.pairs[0].bodies'", "'fourth' names no body (bodies: object, second)"}},
+      {"contact: {pairs: [{bodies: [second, second], friction: 0.4}]}",
+       {"key 'contact.pairs[0].bodies'", "itself"}},
+      {"contact: {pairs: [{bodies: [object], friction: 0.4}]}",
+       {"key 'contact.pairs[0].bodies'", "two body names"}},
+      {"contact: {pairs: [{bodies: [object, second]}]}",
+       {"key 'contact.pairs[0].friction'", "missing"}},
+      {"contact: {pairs: [{bodies: [object, second], friction: 0.1}, {bodies: [second, object], "
+       "friction: 0.2}]}",
+       {"key 'contact.pairs[1].bodies'", "listed twice"}},
+      {"contact: {pairs: [{bodies: [object, second], mu: 0.1}]}",
+       {"contact.pairs[0]", "mu", "unknown key"}},
+  };
+  for (const auto& [yaml, fragments] : bad) {
+    const std::string e = error_of(two_cubes(yaml + "\n"));
+    for (const std::string& f : fragments) {
+      EXPECT_NE(e.find(f), std::string::npos) << yaml << "\n -> " << e;
+    }
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    EXPECT_EQ(e.rfind("test.yaml", 0), 0u) << e;
+  }
+}
+
 }  // namespace
 }  // namespace rbaa

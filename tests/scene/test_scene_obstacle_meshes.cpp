@@ -91,6 +91,8 @@ TEST(SceneObstacleMeshes, BadInputIsOneLineNamingConfigFileAndLine) {
       {"{file: rect.obj, rotation: [0, 0, 1]}",
        {"obstacles.meshes[0].rotation", "expected a mapping"}},
       {"{position: [0, 0, 0]}", {"obstacles.meshes[0].file", "missing"}},
+      {"{file: rect.obj, friction: -0.2}",
+       {"test.yaml:5: key 'obstacles.meshes[0].friction'", "outside [0, inf]"}},
   };
   for (const Case& c : cases) {
     try {
@@ -146,6 +148,26 @@ TEST(SceneObstacleMeshes, FingerprintReadsTheObstacleFile) {
   write("fp_rect.obj", std::string(kRectangleObj) + "v 5 5 5\n");
   EXPECT_NE(before, fp());
   std::remove((dir() + "/fp_rect.obj").c_str());
+}
+
+// obstacles.meshes[i].friction: its own coefficient, else contact.friction's; frictionless
+// meshes fingerprint as before, a coefficient changes the fingerprint.
+TEST(SceneObstacleMeshes, MeshesTakeTheirOwnFrictionOrTheContactDefault) {
+  write("rect.obj", kRectangleObj);
+  const std::string two = config("{file: rect.obj, friction: 0.6}") +
+                          "    - {file: rect.obj, position: [0, 0, -1]}\n";
+  const Scene own = parse_scene(two, "test.yaml", dir());
+  ASSERT_EQ(own.obstacle_meshes.size(), 2u);
+  EXPECT_EQ(own.obstacle_meshes[0].friction, 0.6);
+  EXPECT_EQ(own.obstacle_meshes[1].friction, 0.0);
+  const Scene defaulted = parse_scene(two + "contact: {friction: 0.25}\n", "test.yaml", dir());
+  EXPECT_EQ(defaulted.obstacle_meshes[0].friction, 0.6);
+  EXPECT_EQ(defaulted.obstacle_meshes[1].friction, 0.25);
+  const Scene none = parse_scene(config("{file: rect.obj}"), "test.yaml", dir());
+  const Scene zero = parse_scene(config("{file: rect.obj, friction: 0}"), "test.yaml", dir());
+  const Scene some = parse_scene(config("{file: rect.obj, friction: 0.3}"), "test.yaml", dir());
+  EXPECT_EQ(scene_fingerprint_text(none), scene_fingerprint_text(zero));
+  EXPECT_NE(scene_fingerprint(none), scene_fingerprint(some));
 }
 
 }  // namespace

@@ -97,6 +97,13 @@ struct ObjectiveSpec {
 /// "undirected", "target", "away".
 const char* objective_kind_name(ObjectiveSpec::Kind kind);
 
+/// A Coulomb coefficient between two bodies (contact.pairs[i]): body 0 is the object, body
+/// i + 1 is bodies[i].
+struct BodyPairFriction {
+  int a = 0, b = 0;
+  double friction = 0;
+};
+
 /// Closed interval [lo, hi].
 struct Range {
   double lo = 0, hi = 0;
@@ -149,8 +156,11 @@ struct Scene {
   // Contact (IPC log barrier on unsigned distances).
   double d_hat = 1e-3;  ///< activation distance (m)
   double kappa = 0.0;   ///< barrier stiffness (J per unit of b); 0 = choose by the energy rule
-  /// Coulomb coefficient of every plane that sets none (obstacles.planes[i].friction); 0: none.
+  /// Coulomb coefficient of every pair of surfaces that sets none: planes and obstacle meshes
+  /// without their own `friction`, pairs of bodies not in `friction_pairs`; 0: none.
   double friction = 0.0;
+  /// contact.pairs: coefficients between named bodies, overriding `friction` for them.
+  std::vector<BodyPairFriction> friction_pairs;
   double friction_eps_v = 1e-3;  ///< friction's smoothing speed (m/s)
 
   // Newton.

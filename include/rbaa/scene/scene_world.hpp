@@ -11,8 +11,13 @@
 namespace rbaa {
 
 /// Settings of a scene: its h, steps = round(duration / h), integrator, mass model, gravity,
-/// planes, d_hat and Newton settings, with the given (frozen) kappa.
+/// planes, obstacle meshes, friction, d_hat and Newton settings, with the given (frozen) kappa.
+/// (The bodies' ranges come from the SceneWorld.)
 SimulationSettings simulation_settings(const Scene& scene, double kappa);
+
+/// The coefficients between the scene's bodies (the object, then scene.bodies): contact.friction
+/// for every pair, overridden by contact.pairs; the diagonal 0. Empty without further bodies.
+Eigen::MatrixXd body_friction(const Scene& scene);
 
 /// scene.kappa if positive, else the energy rule (sim/barrier_stiffness.hpp) for the scene's
 /// reference object (`placed`: the placed reference mesh, density scene.reference_rho). Throws

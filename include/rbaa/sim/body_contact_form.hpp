@@ -32,6 +32,7 @@
 #include "rbaa/contact/broad_phase.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/sim/barrier.hpp"
+#include "rbaa/sim/contact_pair.hpp"
 #include "rbaa/sim/form.hpp"
 
 namespace rbaa {
@@ -100,6 +101,9 @@ class BodyContactForm : public Form {
   const contact::Edges& surface_edges() const { return E_; }
   /// Squared rest length of surface edge e (the mollifier's eps_x uses it).
   double edge_rest_squared_length(int e) const { return edge_rest_squared_length_[e]; }
+  /// The pair's four points at q in the order the distance functions take them (the vertex of
+  /// the first primitive's body first), with the mollifier's eps_x for edge-edge pairs.
+  ContactPairPoints points(const BodyPair& p, const Eigen::VectorXd& q) const;
 
  private:
   struct Cache {

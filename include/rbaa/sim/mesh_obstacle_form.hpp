@@ -32,6 +32,7 @@
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/sim/world.hpp"
 #include "rbaa/sim/barrier.hpp"
+#include "rbaa/sim/contact_pair.hpp"
 #include "rbaa/sim/form.hpp"
 
 namespace rbaa {
@@ -100,6 +101,12 @@ class MeshObstacleForm : public Form {
   const std::string& mesh_name(int mesh) const { return mesh_names_[mesh]; }
   /// Obstacle mesh index of a stacked obstacle vertex.
   int mesh_of_obstacle_vertex(int v) const { return mesh_of_vertex_[v]; }
+  int num_meshes() const { return static_cast<int>(mesh_names_.size()); }
+  /// Obstacle mesh index of a pair's obstacle primitive.
+  int mesh_of_pair(const ObstaclePair& p) const;
+  /// The pair's four points at q in the order the distance functions take them (fixed obstacle
+  /// points with vertex -1), with the mollifier's eps_x for edge-edge pairs.
+  ContactPairPoints points(const ObstaclePair& p, const Eigen::VectorXd& q) const;
 
  private:
   struct Cache {

@@ -28,6 +28,7 @@
 #include "rbaa/sim/inertia_form.hpp"
 #include "rbaa/sim/mesh_obstacle_form.hpp"
 #include "rbaa/sim/newton_solver.hpp"
+#include "rbaa/sim/pair_friction_form.hpp"
 #include "rbaa/sim/plane_friction_form.hpp"
 #include "rbaa/sim/sparse_hessian.hpp"
 #include "rbaa/sim/trajectory.hpp"
@@ -50,8 +51,11 @@ struct SimulationSettings {
   std::vector<Body> bodies;
   double d_hat = 1e-3;  ///< m
   /// Friction's smoothing speed eps_v (m/s, plane_friction_form.hpp): Coulomb above it, a creep
-  /// below. Used only when some plane has a friction coefficient.
+  /// below. Used only when some plane, obstacle mesh or pair of bodies has a friction coefficient.
   double friction_eps_v = 1e-3;
+  /// Coulomb coefficients between bodies: (i, j) for bodies[i] and bodies[j] (square over the
+  /// bodies, symmetric; the diagonal is unused). Empty or all zero: frictionless between bodies.
+  Eigen::MatrixXd body_friction;
   double kappa = 0;     ///< J per unit of b; must be > 0 when there are obstacles
   /// Newton tolerance on ||dq||_inf / h relative to the rest bounding-box diagonal per second.
   double newton_tolerance = 1e-8;
@@ -118,6 +122,9 @@ class Simulator {
   BodyContactForm* body_contact_form() { return body_contact_.get(); }
   /// Friction against planes, or null when no plane has a friction coefficient.
   PlaneFrictionForm* plane_friction_form() { return plane_friction_.get(); }
+  /// Friction on mesh-obstacle and body-body pairs, or null when no obstacle mesh and no pair of
+  /// bodies has a friction coefficient.
+  PairFrictionForm* pair_friction_form() { return pair_friction_.get(); }
 
  private:
   void build_mass_forms(const MaterialField& materials);
@@ -142,6 +149,7 @@ class Simulator {
   std::unique_ptr<ContactForm> contact_;
   std::unique_ptr<MeshObstacleForm> mesh_contact_;
   std::unique_ptr<PlaneFrictionForm> plane_friction_;
+  std::unique_ptr<PairFrictionForm> pair_friction_;
   std::unique_ptr<BodyContactForm> body_contact_;
   std::unique_ptr<IncrementalPotential> potential_;
   BdfIntegrator integrator_;

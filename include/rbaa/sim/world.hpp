@@ -29,6 +29,7 @@ struct ObstacleMesh {
   Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
   double rotation_angle_deg = 0.0;
   double scale = 1.0;
+  double friction = 0.0;  ///< Coulomb coefficient mu of bodies against it (0: frictionless)
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V;
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F;
 };
