@@ -1,6 +1,8 @@
 #pragma once
-// The forward simulator: one deformable body (linear tets, per-element materials) against
-// analytic planes, BDF time stepping, one Newton minimisation per step (SPEC section 2).
+// The forward simulator (SPEC section 2): the bodies of one stacked tet mesh (linear tets,
+// per-element materials; some vertices may be driven by a prescribed motion) against analytic
+// planes and static triangle meshes and each other, with IPC contact and lagged friction, BDF
+// time stepping, one Newton minimisation per step.
 //
 //   Simulator sim(rest_mesh, materials, settings);
 //   Trajectory t = sim.run(q0, v0);
