@@ -6,7 +6,6 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
-#include "rbaa/scene/scene.hpp"
 
 namespace rbaa {
 
@@ -25,27 +24,6 @@ DesignField parse_design_field(const std::string& name) {
     if (name == design_field_name(f)) return f;
   }
   throw InputError("unknown design field '" + name + "' (expected Y, nu, rho or alpha)");
-}
-
-DesignSpaceOptions DesignSpaceOptions::from_scene(const Scene& scene) {
-  DesignSpaceOptions o;
-  o.fields.clear();
-  for (const std::string& name : scene.fields) o.fields.push_back(parse_design_field(name));
-  o.Y_min = scene.Y_range.lo;
-  o.Y_max = scene.Y_range.hi;
-  o.nu_min = scene.nu_range.lo;
-  o.nu_max = scene.nu_range.hi;
-  o.rho_min = scene.rho_range.lo;
-  o.rho_max = scene.rho_range.hi;
-  o.alpha_min = scene.alpha_min;
-  o.reference_rho = scene.reference_rho;
-  o.alpha0 = scene.alpha0;
-  o.Y0 = scene.Y0;
-  o.nu0 = scene.nu0;
-  o.boundary_by_vertex = scene.boundary_by_vertex;
-  o.seed = scene.seed;
-  o.perturbation = scene.perturbation;
-  return o;
 }
 
 namespace {

@@ -16,6 +16,7 @@
 #include "rbaa/io/vtu.hpp"
 #include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/opt/density_refit.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
@@ -147,7 +148,7 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
             const Moments& centred_reference_moments,
             const std::function<void(const std::string&)>& stage) {
   const Scene& scene = problem.scene;
-  DesignSpaceOptions po = DesignSpaceOptions::from_scene(scene);
+  DesignSpaceOptions po = design_space_options(scene);
   po.fields.erase(std::remove(po.fields.begin(), po.fields.end(), DesignField::kAlpha), po.fields.end());
   if (po.fields.empty()) return;
   po.perturbation = 0;

@@ -251,7 +251,7 @@ AttackProblem build_attack_problem(const Scene& scene, const AttackProblemOption
           : make_objective(scene.objective, p.world.mesh, p.world.bodies, p.scored,
                            scene.reference_rho, q_ref, p.scored_reference_com, p.scored_length);
 
-  DesignSpaceOptions design_options = DesignSpaceOptions::from_scene(scene);
+  DesignSpaceOptions design_options = design_space_options(scene);
   if (!options.fields.empty()) design_options.fields = options.fields;
   std::vector<char> mask(p.world.mesh.num_tets(), 0);
   for (int e = a.element_begin; e < a.element_end; ++e) mask[e] = 1;

@@ -45,7 +45,7 @@ Run run_config(const std::string& name, bool predictor) {
                 settings);
   auto objective = UndirectedTrajectoryObjective::from_reference(mesh, scene.reference_rho,
                                                                  ref.run(q0, v0).q.back());
-  const DesignSpace ds(mesh, DesignSpaceOptions::from_scene(scene));
+  const DesignSpace ds(mesh, design_space_options(scene));
   TrajectoryGradientFunction f(mesh, settings, q0, v0, ds, objective);
   Run r;
   r.objective = f.evaluate(ds.initial_theta(true), &r.gradient);

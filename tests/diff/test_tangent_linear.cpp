@@ -65,7 +65,7 @@ GradientCheckResult tangent_check(TrajectoryGradientFunction& f, const Eigen::Ve
 void expect_config_fields(const std::string& name, bool strict = true) {
   const ConfigProblem p = config_problem(name);
   for (DesignField field : {DesignField::kY, DesignField::kNu, DesignField::kRho, DesignField::kAlpha}) {
-    DesignSpaceOptions options = DesignSpaceOptions::from_scene(p.scene);
+    DesignSpaceOptions options = design_space_options(p.scene);
     options.fields = {field};
     const DesignSpace ds(p.mesh, options);
     TrajectoryGradientFunction f(p.mesh, p.settings, p.q0, p.v0, ds, p.objective);
@@ -96,7 +96,7 @@ TEST(TangentLinear, CubeConfigEveryField) { expect_config_fields("cube", false);
 // (alpha at alpha_min), checked in material space with every field at once.
 TEST(TangentLinear, RandomMaterialsWithNearVoidElements) {
   const ConfigProblem p = config_problem("ball");
-  const DesignSpaceOptions options = DesignSpaceOptions::from_scene(p.scene);
+  const DesignSpaceOptions options = design_space_options(p.scene);
   const DesignSpace ds(p.mesh, options);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);

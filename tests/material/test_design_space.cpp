@@ -12,6 +12,7 @@
 #include "rbaa/mesh/grid_mesh.hpp"
 #include "rbaa/mesh/topology.hpp"
 #include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_world.hpp"
 
 namespace rbaa {
 namespace {
@@ -239,7 +240,7 @@ TEST(DesignSpace, OptionsFromScene) {
   scene.alpha0 = 0.95;
   scene.seed = 11;
   scene.boundary_by_vertex = true;
-  const DesignSpaceOptions o = DesignSpaceOptions::from_scene(scene);
+  const DesignSpaceOptions o = design_space_options(scene);
   ASSERT_EQ(o.fields.size(), 3u);
   EXPECT_EQ(o.fields[2], DesignField::kRho);
   EXPECT_EQ(o.Y_min, 5e9);
@@ -249,7 +250,7 @@ TEST(DesignSpace, OptionsFromScene) {
   EXPECT_TRUE(std::isnan(o.Y0));  // the middle of the range unless the config says otherwise
   scene.Y0 = 6e9;
   scene.nu0 = 0.25;
-  const DesignSpaceOptions soft = DesignSpaceOptions::from_scene(scene);
+  const DesignSpaceOptions soft = design_space_options(scene);
   EXPECT_EQ(soft.Y0, 6e9);
   EXPECT_EQ(soft.nu0, 0.25);
 }

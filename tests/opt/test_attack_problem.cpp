@@ -18,6 +18,7 @@
 #include "rbaa/mesh/topology.hpp"
 #include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
 #include "rbaa/sim/observables.hpp"
 
@@ -70,7 +71,7 @@ TEST(AttackProblem, OnOneBodyItIsTheHandWrittenSequenceBitForBit) {
   const Trajectory ref = reference.run(q0, v0);
   auto objective =
       UndirectedTrajectoryObjective::from_reference(mesh, scene.reference_rho, ref.q.back());
-  const DesignSpace design(mesh, DesignSpaceOptions::from_scene(scene));
+  const DesignSpace design(mesh, design_space_options(scene));
   TrajectoryGradientFunction f(mesh, settings, q0, v0, design, objective);
 
   EXPECT_EQ(p.world.mesh.V, mesh.V);

@@ -29,8 +29,6 @@
 
 namespace rbaa {
 
-struct Scene;
-
 enum class DesignField { kY = 0, kNu = 1, kRho = 2, kAlpha = 3 };
 
 /// "Y", "nu", "rho", "alpha".
@@ -58,9 +56,6 @@ struct DesignSpaceOptions {
   bool boundary_by_vertex = false;
   std::uint64_t seed = 1;
   double perturbation = 0.1;  ///< standard deviation of the Gaussian perturbation of theta_0
-
-  /// The attack section of a scene: ranges, fields, alpha0, seed, perturbation, boundary rule.
-  static DesignSpaceOptions from_scene(const Scene& scene);
 };
 
 class DesignSpace {

@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "rbaa/material/design_space.hpp"
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/scene/scene.hpp"
@@ -53,5 +54,9 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh);
 /// The bodies a simulation of the world needs in its settings: all of them when there are several
 /// or one is driven, else none (the whole mesh is the one body).
 std::vector<Body> simulated_bodies(const SceneWorld& world);
+
+/// The design space a scene's attack section asks for: ranges, fields, initial values, alpha0,
+/// seed, perturbation, boundary rule.
+DesignSpaceOptions design_space_options(const Scene& scene);
 
 }  // namespace rbaa
