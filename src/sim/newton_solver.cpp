@@ -166,9 +166,10 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     // are noise, the search halves at random and Newton stalled at ~1e-11 m/s, 1e3 x above its
     // usual floor. There a full admissible step that lowers the gradient's norm is taken instead.
     bool gradient_accepted = false;
+    double dE = 0;  // E(trial) - E(x) of the step taken (for extrapolation and the callback)
     if (floor_regime && alpha == 1.0) {
       trial = step_at(1.0);
-      if (E.is_step_valid(x, trial) && !(E.value_difference(x, trial) <= 0)) {
+      if (E.is_step_valid(x, trial) && !((dE = E.value_difference(x, trial)) <= 0)) {
         Eigen::VectorXd g_trial = E.gradient(trial);
         if (g_trial.norm() < g.norm()) {
           gradient_accepted = true;
@@ -186,7 +187,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
         throw SolverError(msg.str());
       }
       trial = step_at(alpha);
-      if (E.is_step_valid(x, trial) && E.value_difference(x, trial) <= 0) break;
+      if (E.is_step_valid(x, trial) && (dE = E.value_difference(x, trial)) <= 0) break;
       alpha *= 0.5;
     }
     result.line_search_halvings += halvings;
@@ -199,7 +200,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     // longer step is kept only if it lowers the energy further, so convergence is unchanged. Not
     // at the round-off floor, where energy differences are noise.
     if (!floor_regime && halvings == 0 && alpha0 == 1.0) {
-      double dE = E.value_difference(x, trial);
       const double slope = g.dot(dq);
       while (alpha < kMaxExtrapolation && dE < 0 && dE / slope > kExtrapolationRatio) {
         Eigen::VectorXd longer = step_at(2 * alpha);
@@ -220,7 +220,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
       info.step_velocity = velocity;
       info.max_step_fraction = alpha0;
       info.step_fraction = alpha;
-      info.energy_change = E.value_difference(x, trial);
+      info.energy_change = dE;
       info.directional_derivative = g.dot(dq);  // of the full (transformed) step
       dq.cwiseAbs().maxCoeff(&info.largest_dof);
       callback_(context, info);

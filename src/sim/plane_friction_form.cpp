@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "rbaa/contact/smooth_friction.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/sim/vertex_plane.hpp"
 
@@ -52,13 +53,8 @@ PlaneFrictionForm::Slip PlaneFrictionForm::slip(const Pair& p, const Eigen::Vect
   Slip s;
   s.u = r - n * n.dot(r);
   s.y = s.u.norm();
-  if (s.y < eps_) {
-    s.f1_over_y = 2.0 / eps_ - s.y / (eps_ * eps_);
-    s.c1 = s.y > 0 ? -1.0 / (eps_ * eps_ * s.y) : 0.0;
-  } else {
-    s.f1_over_y = 1.0 / s.y;
-    s.c1 = -1.0 / (s.y * s.y * s.y);
-  }
+  s.f1_over_y = contact::smooth_friction_f1_over_y(s.y, eps_);
+  s.c1 = contact::smooth_friction_c1(s.y, eps_);
   return s;
 }
 
@@ -71,9 +67,7 @@ Eigen::Matrix3d PlaneFrictionForm::block(const Pair& p, const Slip& s) const {
 double PlaneFrictionForm::value(const Eigen::VectorXd& x) const {
   double sum = 0;
   for (const Pair& p : pairs_) {
-    const double y = slip(p, x).y;
-    const double f0 = y < eps_ ? -y * y * y / (3 * eps_ * eps_) + y * y / eps_ + eps_ / 3 : y;
-    sum += mu_[p.plane] * p.normal_force * f0;
+    sum += mu_[p.plane] * p.normal_force * contact::smooth_friction_f0(slip(p, x).y, eps_);
   }
   return sum;
 }
@@ -92,16 +86,7 @@ double PlaneFrictionForm::value_difference(const Eigen::VectorXd& x0,
     const Eigen::Vector3d du = dx - n * n.dot(dx);
     const double y0 = s0.y, y1 = s1.y;
     const double dy = y0 + y1 > 0 ? du.dot(s1.u + s0.u) / (y0 + y1) : 0.0;
-    double df0;
-    if (y0 >= eps_ && y1 >= eps_) {
-      df0 = dy;
-    } else if (y0 < eps_ && y1 < eps_) {
-      df0 = dy * ((y0 + y1) / eps_ - (y0 * y0 + y0 * y1 + y1 * y1) / (3 * eps_ * eps_));
-    } else {
-      auto f0 = [&](double y) { return y < eps_ ? -y * y * y / (3 * eps_ * eps_) + y * y / eps_ + eps_ / 3 : y; };
-      df0 = f0(y1) - f0(y0);
-    }
-    sum += mu_[p.plane] * p.normal_force * df0;
+    sum += mu_[p.plane] * p.normal_force * contact::smooth_friction_f0_difference(y0, y1, dy, eps_);
   }
   return sum;
 }
