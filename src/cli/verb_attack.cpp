@@ -69,6 +69,14 @@ int run_attack_verb() {
                "void fraction %.3f; %s -> %s/report.json\n",
                result.gap_initial, result.gap_continuous, result.gap_final, result.max_normalized_residual,
                result.post.void_fraction, duration_text(result.total_seconds).c_str(), FLAGS_out.c_str());
+  const rbaa::RefinementCheck& c = result.refinement;
+  if (c.measured) {
+    std::fprintf(stderr,
+                 "rbaa attack: at h / %d = %.3g s the final object's gap is %.4e m (%.0f %% of %.4e m at "
+                 "the attack's step; the reference itself moved %.3e m)\n",
+                 c.factor, c.time_step, c.gap, 100.0 * c.gap / std::max(c.gap_at_attack_step, 1e-300),
+                 c.gap_at_attack_step, c.reference_com_shift);
+  }
   return 0;
 }
 
@@ -106,6 +114,10 @@ RBAA_REGISTER_VERB(
         "key: if\n"
         "its objective is lower; never if its re-fit or simulation fails: report.json "
         "polish.failed).\n"
+        "Last, the reference and the final object are re-simulated at the attack's step divided "
+        "by\n"
+        "attack.refinement_factor (default 2; 0 turns it off): report.json refinement.gap beside\n"
+        "refinement.gap_at_attack_step says whether the gap belongs to the object or to the step.\n"
         "Progress goes to stderr and DIR/progress.csv (polish: DIR/polish_progress.csv);\n"
         "DIR/checkpoint.json (polish_checkpoint.json) is written atomically after every iteration\n"
         "(--resume continues from it if the parsed settings that change the result are the same:\n"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "rbaa/diff/trajectory_gradient.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
@@ -81,14 +82,31 @@ struct FinalGap {
   double objective = 0;                                  ///< the objective's trajectory term
 };
 
+// A reference run at a finer step (the refinement check): the step divisor, the run's final
+// positions and the attacked body's centre of mass at T.
+struct RefinedReference {
+  int factor = 1;
+  Eigen::VectorXd final_positions;
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();
+};
+
+SimulationSettings refined_settings(SimulationSettings s, int factor) {
+  s.time_step /= factor;
+  s.num_steps *= factor;
+  return s;
+}
+
 // The object without its voids, simulated from the scene's initial state with the other bodies;
 // its gap is measured on the material points it shares with the reference (the kept vertices),
 // mass-weighted by the reference: d^T Mref d over the kept vertices, element by element,
-// (m_e / 20)(1 + delta_ab) d_a . d_b.
+// (m_e / 20)(1 + delta_ab) d_a . d_b. With `refined`, both runs are at the finer step.
 FinalGap measure_solid(const AttackProblem& problem,
-                       const Eigen::VectorXd& reference_element_masses, const SolidObject& solid) {
+                       const Eigen::VectorXd& reference_element_masses, const SolidObject& solid,
+                       const RefinedReference* refined = nullptr) {
   const TetMesh& mesh = problem.body_mesh;
-  const ReplacedWorld world = problem.with_body(solid.mesh, solid.materials, solid.vertex_origin);
+  ReplacedWorld world = problem.with_body(solid.mesh, solid.materials, solid.vertex_origin,
+                                          refined ? &refined->final_positions : nullptr);
+  if (refined) world.settings = refined_settings(world.settings, refined->factor);
   const Body& body = world.bodies[problem.attacked];
   Simulator sim(world.mesh, world.materials, world.settings);
   const Trajectory run = sim.run(world.q0, world.v0);
@@ -117,7 +135,7 @@ FinalGap measure_solid(const AttackProblem& problem,
   for (int v = 0; v < masses.size(); ++v) {
     if (v < body.vertex_begin || v >= body.vertex_end) masses[v] = 0.0;
   }
-  g.com_gap = (centre_of_mass(run.q.back(), masses) - problem.reference_com).norm();
+  g.com_gap = (centre_of_mass(run.q.back(), masses) - (refined ? refined->com : problem.reference_com)).norm();
   g.scored_com = body_centre_of_mass(run.q.back(), world.mesh, world.materials.effective_density(),
                                      world.bodies[problem.scored]);
   g.objective = world.objective->evaluate(run, world.materials, nullptr);
@@ -223,6 +241,47 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
     r.scored_com_final = g.scored_com;
     r.objective_final_object = g.objective;
   }
+}
+
+// Survival under refinement (issue 20 item 5): the reference and the final object re-simulated at
+// the attack's step divided by attack.refinement_factor, the object's gap measured against that
+// reference. A gap that lives on the step size (an impact's phase within a step, SPEC section 2)
+// shrinks here; one that belongs to the object stays. A run that fails is reported, not thrown:
+// the attack's result stands without it.
+void refinement_check(AttackResult& r, const AttackProblem& problem,
+                      const Eigen::VectorXd& reference_element_masses,
+                      const std::function<void(const std::string&)>& stage) {
+  RefinementCheck& c = r.refinement;
+  c.factor = problem.scene.refinement_factor;
+  c.time_step = problem.settings.time_step / c.factor;
+  c.gap_at_attack_step = r.gap_final;
+  std::ostringstream what;
+  what << "re-simulating the reference and the final object at h / " << c.factor << " = "
+       << c.time_step << " s";
+  stage(what.str());
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    RefinedReference ref;
+    ref.factor = c.factor;
+    Simulator sim(problem.world.mesh, problem.reference_materials,
+                  refined_settings(problem.settings, c.factor));
+    ref.final_positions = sim.run(problem.q0, problem.v0).q.back();
+    const Eigen::VectorXd density = problem.reference_materials.effective_density();
+    ref.com = body_centre_of_mass(ref.final_positions, problem.world.mesh, density, problem.body());
+    c.reference_com_shift = (ref.com - problem.reference_com).norm();
+    c.scored_com_reference = body_centre_of_mass(ref.final_positions, problem.world.mesh, density,
+                                                 problem.world.bodies[problem.scored]);
+    const FinalGap g = measure_solid(problem, reference_element_masses, r.post.solid, &ref);
+    c.gap = g.gap;
+    c.com_gap = g.com_gap;
+    c.scored_com_final = g.scored_com;
+    c.objective = g.objective;
+    c.measured = true;
+  } catch (const SolverError& e) {
+    c.failure = e.what();
+    stage("the refinement check failed (the result stands without it): " + c.failure);
+  }
+  c.seconds = seconds_since(start);
 }
 
 }  // namespace
@@ -341,6 +400,7 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   if (scene.polish_iterations > 0 && design.optimises(DesignField::kAlpha)) {
     polish(r, problem, options, reference_element_masses, centred_reference_moments, stage);
   }
+  if (scene.refinement_factor > 1) refinement_check(r, problem, reference_element_masses, stage);
   r.adversarial_moments = compute_moments(r.post.solid.mesh, r.post.solid.materials.effective_density());
   r.max_normalized_residual = max_normalized_residual(r.adversarial_moments, r.reference_moments);
 
@@ -452,9 +512,28 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
        {{"forward_s", r.forward_seconds},
         {"adjoint_s", r.adjoint_seconds},
         {"total_s", r.total_seconds}}}};
+  auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
+  {
+    const RefinementCheck& c = r.refinement;
+    auto measured = [&c](double x) { return c.measured ? nlohmann::json(x) : nlohmann::json(nullptr); };
+    report["refinement"] = {
+        {"factor", c.factor},
+        {"time_step", c.factor > 0 ? nlohmann::json(c.time_step) : nlohmann::json(nullptr)},
+        {"gap_at_attack_step", c.factor > 0 ? nlohmann::json(c.gap_at_attack_step) : nlohmann::json(nullptr)},
+        {"gap", measured(c.gap)},
+        {"com_gap", measured(c.com_gap)},
+        {"kept_fraction", measured(c.gap_at_attack_step > 0 ? c.gap / c.gap_at_attack_step : 0.0)},
+        {"reference_com_shift", measured(c.reference_com_shift)},
+        {"objective", measured(c.objective)},
+        {"failed", c.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.failure)},
+        {"seconds", c.seconds}};
+    if (c.measured && scene.objective.kind != ObjectiveSpec::Kind::kUndirected) {
+      report["refinement"]["scored_centre_of_mass"] = {{"reference", vec(c.scored_com_reference)},
+                                                       {"final", vec(c.scored_com_final)}};
+    }
+  }
   if (scene.objective.kind != ObjectiveSpec::Kind::kUndirected) {
     // Where the scored body's centre of mass ended (m): the directed attack's own measure.
-    auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
     report["score"] = {{"body", r.scored_body},
                        {"kind", objective_kind_name(scene.objective.kind)},
                        {"centre_of_mass",

@@ -123,7 +123,8 @@ std::unique_ptr<TrajectoryGradientFunction> AttackProblem::make_gradient(
 }
 
 ReplacedWorld AttackProblem::with_body(const TetMesh& mesh, const MaterialField& materials,
-                                       const std::vector<int>& vertex_origin) const {
+                                       const std::vector<int>& vertex_origin,
+                                       const Eigen::VectorXd* reference_final) const {
   validate_material_field(materials, mesh.num_tets(), "the replaced body's materials");
   if (static_cast<int>(vertex_origin.size()) != mesh.num_vertices()) {
     throw InputError("with_body: vertex_origin does not fit the mesh");
@@ -161,7 +162,10 @@ ReplacedWorld AttackProblem::with_body(const TetMesh& mesh, const MaterialField&
   r.mesh.V.resize(vertices, 3);
   r.mesh.T.resize(elements, 4);
   r.materials = MaterialField::uniform(elements, 1, 0.3, 1);
-  const Eigen::VectorXd& q_ref = reference.q.back();
+  const Eigen::VectorXd& q_ref = reference_final ? *reference_final : reference.q.back();
+  if (q_ref.size() != 3 * world.mesh.num_vertices()) {
+    throw InputError("with_body: the reference's final positions do not fit the world");
+  }
   r.reference_final.resize(3 * vertices);
   for (std::size_t i = 0; i < r.bodies.size(); ++i) {
     const Body& b = r.bodies[i];

@@ -578,6 +578,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);
     s.project_moments = a.text("project_moments", "true", {"true", "false"}) == "true";
     s.polish_iterations = a.integer("polish_iterations", s.polish_iterations, 0, 1000000);
+    s.refinement_factor = a.integer("refinement_factor", s.refinement_factor, 0, 64);
     s.attack_body = a.text("body", s.attack_body, names);
     for (const BodySpec& body : s.bodies) {
       if (body.name == s.attack_body && !body.materials_file.empty()) {

@@ -18,6 +18,7 @@
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/mesh/topology.hpp"
 #include "rbaa/opt/attack.hpp"
+#include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/scene/scene.hpp"
 
 namespace rbaa {
@@ -101,6 +102,28 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   EXPECT_TRUE(report["materials"]["Y"].contains("min"));
   EXPECT_TRUE(report["timing"].contains("adjoint_s"));
   EXPECT_EQ(report["iterations"].get<int>(), 30);
+  // Survival under refinement (attack.refinement_factor, default 2): the reference and the final
+  // object again at h / 2, the gap measured between them.
+  const RefinementCheck& c = r.refinement;
+  std::printf("refinement: gap %.4e m at h = %g s, %.4e m at h / 2 (reference moved %.3e m)\n",
+              c.gap_at_attack_step, scene.time_step, c.gap, c.reference_com_shift);
+  ASSERT_TRUE(c.measured) << c.failure;
+  EXPECT_EQ(c.factor, 2);
+  EXPECT_DOUBLE_EQ(c.time_step, scene.time_step / 2);
+  EXPECT_EQ(c.gap_at_attack_step, r.gap_final);
+  EXPECT_GT(c.gap, 0.0);
+  // Its reference is the scene's own reference run at h / 2 (measured 2026-11-26: it ends
+  // 0.133 m from the one at h = 0.01, a third of its path: at this step the stiff ball's rebound
+  // depends on where the impact falls within a step, SPEC section 2).
+  Scene half = scene;
+  half.time_step = scene.time_step / 2;
+  AttackProblemOptions po;
+  po.with_gradient = false;
+  const AttackProblem at_half = build_attack_problem(half, po);
+  EXPECT_LE((c.scored_com_reference - at_half.reference_com).norm(), 1e-12);
+  EXPECT_NEAR(c.reference_com_shift, (at_half.reference_com - r.scored_com_reference).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(report["refinement"]["gap"].get<double>(), c.gap);
+  EXPECT_DOUBLE_EQ(report["refinement"]["time_step"].get<double>(), scene.time_step / 2);
   EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial.vtu"));
   std::filesystem::remove_all(dir);
 }

@@ -202,6 +202,8 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   EXPECT_FALSE(simulation_settings(parse_scene(kMinimal, "t.yaml", "", {"newton.rigid_predictor=false"}), 1.0).rigid_predictor);
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: -1}\n", {"attack.polish_iterations"});
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: 2.5}\n", {"attack.polish_iterations", "whole number"});
+  expect_error(std::string(kMinimal) + "attack: {refinement_factor: -2}\n", {"attack.refinement_factor"});
+  expect_error(std::string(kMinimal) + "attack: {refinement_factor: 1.5}\n", {"attack.refinement_factor", "whole number"});
   expect_error("mesh: {shape: cube, file: a.msh}\n", {"mesh", "exactly one of shape, surface, file"});
   expect_error("time: {step: 0.01}\n", {"mesh", "missing"});
   expect_error("mesh: [1, 2\n", {"test.yaml", "invalid YAML"});
@@ -225,7 +227,8 @@ TEST(Scene, FingerprintIgnoresWhatChangesNoResult) {
       << scene_fingerprint_text(parse_scene(respelled, "b.yaml", "")) << "\nvs\n"
       << scene_fingerprint_text(parse_scene(base, "a.yaml", ""));
   EXPECT_EQ(scene_fingerprint(parse_scene(base, "a.yaml", "", {"attack.polish_iterations=30",
-                                                                "newton.max_iterations=300"})),
+                                                                "newton.max_iterations=300",
+                                                                "attack.refinement_factor=4"})),
             fp);
 }
 

@@ -36,6 +36,21 @@ struct AttackOptions {
   std::function<void(const std::string&)> on_stage;
 };
 
+/// The final object and the reference re-simulated at a finer step (attack.refinement_factor).
+struct RefinementCheck {
+  int factor = 0;          ///< the attack's step divided by this; 0: not done
+  double time_step = 0;    ///< s
+  bool measured = false;   ///< false when not done or a run failed (failure says why)
+  std::string failure;
+  double gap_at_attack_step = 0;  ///< the final object's gap at the attack's step (m)
+  double gap = 0, com_gap = 0;    ///< the final object's gap at the finer step (m)
+  double reference_com_shift = 0;  ///< |c_A,ref(T) at the finer step - at the attack's| (m)
+  Eigen::Vector3d scored_com_reference = Eigen::Vector3d::Zero();  ///< c_B(T), finer step
+  Eigen::Vector3d scored_com_final = Eigen::Vector3d::Zero();
+  double objective = 0;  ///< the final object's trajectory term at the finer step
+  double seconds = 0;
+};
+
 struct AttackResult {
   std::string attacked_body;  ///< the designed body A ("object" or its bodies[].name)
   std::string scored_body;    ///< the objective's body B
@@ -66,6 +81,7 @@ struct AttackResult {
   Eigen::Vector3d scored_com_reference = Eigen::Vector3d::Zero();
   Eigen::Vector3d scored_com_continuous = Eigen::Vector3d::Zero();
   Eigen::Vector3d scored_com_final = Eigen::Vector3d::Zero();
+  RefinementCheck refinement;
   double forward_seconds = 0, adjoint_seconds = 0, total_seconds = 0;
 };
 

@@ -123,9 +123,12 @@ struct AttackProblem {
   std::unique_ptr<TrajectoryGradientFunction> make_gradient(FactorStorage storage) const;
   /// The world with A's mesh replaced by `mesh` (placed; vertex i was A's vertex vertex_origin[i],
   /// e.g. the final object without its voids) and its materials by `materials` (#T of mesh), with
-  /// the objective and gap rebuilt on it. A single body gives mesh alone.
+  /// the objective and gap rebuilt on it. A single body gives mesh alone. `reference_final`
+  /// (3 #V of the world), if given, replaces the reference run's final positions (a reference
+  /// run at another step).
   ReplacedWorld with_body(const TetMesh& mesh, const MaterialField& materials,
-                          const std::vector<int>& vertex_origin) const;
+                          const std::vector<int>& vertex_origin,
+                          const Eigen::VectorXd* reference_final = nullptr) const;
 };
 
 /// Builds the problem. Throws rbaa::InputError on bad input (an unknown body, an objective that

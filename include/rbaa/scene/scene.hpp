@@ -206,6 +206,10 @@ struct Scene {
   /// Adam iterations on Y, nu, rho of the rounded, connected, re-fitted object (attack.cpp's
   /// polish stage); 0 turns it off. Only when alpha is optimised (otherwise nothing is rounded).
   int polish_iterations = 0;
+  /// The final object re-simulated, with the reference, at the attack's step divided by this
+  /// (attack.refinement_factor; 0 or 1: not done): whether its gap survives a finer step (issue
+  /// 20 item 5). Reporting only: it does not change the result.
+  int refinement_factor = 2;
 };
 
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the YAML
