@@ -8,7 +8,7 @@
 #include "rbaa/cli/scene_flags.hpp"
 #include "rbaa/cli/verb.hpp"
 #include "rbaa/error.hpp"
-#include "rbaa/io/polyfem_scene.hpp"
+#include "rbaa/scene/polyfem_scene.hpp"
 #include "rbaa/scene/polyfem_model.hpp"
 
 DECLARE_string(adversarial);

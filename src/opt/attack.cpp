@@ -511,6 +511,7 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
       {"timing",
        {{"forward_s", r.forward_seconds},
         {"adjoint_s", r.adjoint_seconds},
+        {"refinement_s", r.refinement.seconds},
         {"total_s", r.total_seconds}}}};
   auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
   {
@@ -525,8 +526,7 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
         {"kept_fraction", measured(c.gap_at_attack_step > 0 ? c.gap / c.gap_at_attack_step : 0.0)},
         {"reference_com_shift", measured(c.reference_com_shift)},
         {"objective", measured(c.objective)},
-        {"failed", c.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.failure)},
-        {"seconds", c.seconds}};
+        {"failed", c.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.failure)}};
     if (c.measured && scene.objective.kind != ObjectiveSpec::Kind::kUndirected) {
       report["refinement"]["scored_centre_of_mass"] = {{"reference", vec(c.scored_com_reference)},
                                                        {"final", vec(c.scored_com_final)}};

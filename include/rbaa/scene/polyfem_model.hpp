@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "rbaa/io/polyfem_scene.hpp"
+#include "rbaa/scene/polyfem_scene.hpp"
 #include "rbaa/material/material_field.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/scene/scene.hpp"

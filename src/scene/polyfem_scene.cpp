@@ -1,4 +1,4 @@
-#include "rbaa/io/polyfem_scene.hpp"
+#include "rbaa/scene/polyfem_scene.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "io/io_test_support.hpp"
-#include "rbaa/io/polyfem_scene.hpp"
+#include "rbaa/scene/polyfem_scene.hpp"
 #include "rbaa/sim/world.hpp"
 
 namespace {
