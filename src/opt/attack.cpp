@@ -381,7 +381,10 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   }
   stage("post-processing: rounding, connectivity, density re-fit");
   try {
-    r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold);
+    // The drive holds the attacked body by its driven vertices: they stay in the object.
+    std::vector<int> driven;
+    for (int v : problem.body().driven_vertices) driven.push_back(v - problem.body().vertex_begin);
+    r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold, driven);
   } catch (const SolverError& e) {
     if (continuous_path.empty()) throw;
     throw SolverError(std::string(e.what()) + "; the optimised continuous design is kept in " + continuous_path);

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "rbaa/error.hpp"
 
 namespace rbaa {
 
@@ -40,12 +43,23 @@ SolidObject remove_void_elements(const TetMesh& mesh, const MaterialField& field
 
 PostProcessResult post_process(const TetMesh& mesh, const DesignSpace& design,
                                const MaterialField& continuous, const Moments& reference,
-                               double threshold) {
+                               double threshold, const std::vector<int>& kept_vertices) {
   PostProcessResult r;
   r.rounded = continuous;
   if (design.optimises(DesignField::kAlpha)) {
-    r.rounded.alpha = round_occupancy(continuous.alpha, design.boundary(), threshold);
-    r.connectivity = repair_connectivity(mesh, design.boundary(), r.rounded.alpha);
+    std::vector<char> solid = design.boundary();
+    if (!kept_vertices.empty()) {
+      std::vector<char> kept(mesh.num_vertices(), 0);
+      for (int v : kept_vertices) {
+        if (v < 0 || v >= mesh.num_vertices()) throw InputError("post_process: kept vertex " + std::to_string(v) + " is not in the mesh");
+        kept[v] = 1;
+      }
+      for (int e = 0; e < mesh.num_tets(); ++e) {
+        for (int a = 0; a < 4; ++a) solid[e] = solid[e] || kept[mesh.T(e, a)];
+      }
+    }
+    r.rounded.alpha = round_occupancy(continuous.alpha, solid, threshold);
+    r.connectivity = repair_connectivity(mesh, solid, r.rounded.alpha);
   } else {
     r.connectivity.components_before = r.connectivity.components_after = 1;
   }

@@ -2,6 +2,8 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <fstream>
 
@@ -201,6 +203,47 @@ TEST(PostProcess, RoundsRepairsRefitsAndRemovesVoids) {
   const MomentVector ms = compute_moments(r.solid.mesh, r.solid.materials.effective_density()).as_vector();
   EXPECT_LE(((ms - reference.as_vector()).array() / scale.array()).abs().maxCoeff(), 1e-10);
   EXPECT_EQ(count_components(r.solid.mesh), 1);
+}
+
+// A driven body is held by its driven vertices: elements touching them stay solid through the
+// rounding even where the design voided them, so every driven vertex stays in the final object
+// (AttackProblem::with_body maps driven vertices through the solid's vertex_origin and refuses a
+// lost one).
+TEST(PostProcess, KeepsTheElementsOfKeptVertices) {
+  const TetMesh mesh = box_tet_mesh({-0.2, -0.1, 0.3}, {0.2, 0.1, 0.6}, 6, 4, 5);
+  const DesignSpace design(mesh, DesignSpaceOptions{});
+  const Moments reference = compute_moments(mesh, 2500.0);
+  MaterialField field = design.to_material(design.initial_theta());
+  // An interior vertex whose every element the design voids.
+  std::vector<char> on_boundary_element(mesh.num_vertices(), 0);
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    if (design.boundary()[e]) {
+      for (int a = 0; a < 4; ++a) on_boundary_element[mesh.T(e, a)] = 1;
+    }
+  }
+  int v = -1;
+  for (int i = 0; i < mesh.num_vertices() && v < 0; ++i) {
+    if (!on_boundary_element[i]) v = i;
+  }
+  ASSERT_GE(v, 0);
+  std::vector<int> around;
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    for (int a = 0; a < 4; ++a) {
+      if (mesh.T(e, a) == v) around.push_back(e);
+    }
+  }
+  for (int e : around) field.alpha[e] = 0.1;
+  auto keeps_vertex = [&](const PostProcessResult& r) {
+    return std::find(r.solid.vertex_origin.begin(), r.solid.vertex_origin.end(), v) !=
+           r.solid.vertex_origin.end();
+  };
+  const PostProcessResult plain = post_process(mesh, design, field, reference, 0.5);
+  EXPECT_FALSE(keeps_vertex(plain));  // the design's voids remove it
+  const PostProcessResult held = post_process(mesh, design, field, reference, 0.5, {v});
+  EXPECT_TRUE(keeps_vertex(held));
+  for (int e : around) EXPECT_EQ(held.rounded.alpha[e], 1.0) << e;
+  EXPECT_LE(held.refit.max_residual, 1e-10);
+  EXPECT_THROW(post_process(mesh, design, field, reference, 0.5, {mesh.num_vertices()}), InputError);
 }
 
 }  // namespace
