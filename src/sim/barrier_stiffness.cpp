@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 
 namespace rbaa {
 
 double barrier_stiffness_from_energy(double m0, double speed, double d_hat) {
-  return 0.5 * m0 * speed * speed / Barrier(d_hat).value(1e-3 * d_hat);
+  return 0.5 * m0 * speed * speed / contact::Barrier(d_hat).value(1e-3 * d_hat);
 }
 
 double barrier_design_speed(double speed, const Eigen::Vector3d& gravity,

@@ -22,7 +22,7 @@ double pair_mollifier(const ContactPairPoints& P) {
   return P.edge_edge ? contact::edge_edge_mollifier(P.x[0], P.x[1], P.x[2], P.x[3], P.eps_x) : 1.0;
 }
 
-void pair_derivatives(const ContactPairPoints& P, const Barrier& b, Vector12d& g, Matrix12d& H) {
+void pair_derivatives(const ContactPairPoints& P, const contact::Barrier& b, Vector12d& g, Matrix12d& H) {
   Vector12d ds;
   Matrix12d d2s;
   if (P.edge_edge) {
@@ -56,7 +56,7 @@ void pair_derivatives(const ContactPairPoints& P, const Barrier& b, Vector12d& g
 }
 
 double pair_value_difference(const ContactPairPoints& P0, const ContactPairPoints& P1,
-                             const Barrier& b) {
+                             const contact::Barrier& b) {
   const double d0 = std::sqrt(pair_squared_distance(P0)), d1 = std::sqrt(pair_squared_distance(P1));
   if (!(d1 > 0)) return std::numeric_limits<double>::infinity();
   const double db = b.difference(d0, d1 - d0);

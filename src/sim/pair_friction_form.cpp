@@ -102,7 +102,7 @@ PairFrictionForm::PairFrictionForm(const MeshObstacleForm* obstacles, std::vecto
   eps_ = eps_v * (bdf2 ? 2.0 * time_step / 3.0 : time_step);
 }
 
-void PairFrictionForm::add_pair(LaggedFrictionPair p, const Barrier& barrier, double kappa,
+void PairFrictionForm::add_pair(LaggedFrictionPair p, const contact::Barrier& barrier, double kappa,
                                 const Eigen::VectorXd& q_previous) {
   if (p.mu == 0) return;
   const ContactPairPoints& P = p.points;
@@ -209,7 +209,7 @@ void PairFrictionForm::add_hessian(const Eigen::VectorXd& x, double scale, Hessi
 Vector12d PairFrictionForm::normal_force_gradient(const LaggedFrictionPair& p) const {
   // lambda = -kappa m b'(d), d = sqrt(s): d lambda = -kappa (m b''(d) ds / (2 d) + b'(d) dm).
   const ContactPairPoints& P = p.points;
-  const Barrier& barrier = p.mesh >= 0 ? obstacles_->barrier() : bodies_->barrier();
+  const contact::Barrier& barrier = p.mesh >= 0 ? obstacles_->barrier() : bodies_->barrier();
   const double kappa = p.mesh >= 0 ? obstacles_->kappa() : bodies_->kappa();
   Vector12d ds;
   double s;

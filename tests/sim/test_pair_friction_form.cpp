@@ -199,7 +199,7 @@ TEST(PairFriction, DerivativesMatchFiniteDifferencesSlidingAndSticking) {
 TEST(PairFriction, TheForceIsCoulombsWithEachMeshsCoefficient) {
   const Contact s = box_on_obstacles();
   const Forms f = make_forms(s, 1e-3);
-  const Barrier barrier(kDHat);
+  const contact::Barrier barrier(kDHat);
   const Eigen::Vector3d n =
       (s.obstacles[0].V.row(1) - s.obstacles[0].V.row(0))
           .transpose()

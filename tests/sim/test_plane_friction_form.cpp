@@ -77,7 +77,7 @@ TEST(PlaneFriction, DerivativesMatchFiniteDifferencesSlidingAndSticking) {
 TEST(PlaneFriction, TheForceIsCoulombsWhileSlidingAndNeverMore) {
   const Contact s = box_on_planes(false);
   PlaneFrictionForm f = make_form(s, 1e-3);
-  const Barrier barrier(3e-3);
+  const contact::Barrier barrier(3e-3);
   // Sliding fast: |force| = mu lambda at every lagged vertex, opposite the tangential motion.
   const Eigen::VectorXd x = s.q_n + (s.q_n - s.q_prev);
   const Eigen::VectorXd g = test::form_gradient(f, x);

@@ -10,7 +10,7 @@
 
 #include "mesh_fixtures.hpp"
 #include "rbaa/error.hpp"
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/parallel.hpp"
@@ -208,7 +208,7 @@ TEST(Simulator, StiffBoxLandingFlatFollowsThePointMassRecurrence) {
   const Trajectory t = sim.run(q0, v0);
   const double m = sim.vertex_masses().sum();
 
-  const Barrier barrier(s.d_hat);
+  const contact::Barrier barrier(s.d_hat);
   const double h = s.time_step, w = 4.0 / 9.0 * h * h;
   std::vector<double> d = {0.004 + 3 * h, 0.004 + 2 * h, 0.004 + h, 0.004};  // q_{-3} .. q_0
   auto velocity = [&](std::size_t k) { return (3 * d[k] - 4 * d[k - 1] + d[k - 2]) / (2 * h); };

@@ -31,7 +31,7 @@
 #include "rbaa/contact/additive_ccd.hpp"
 #include "rbaa/contact/broad_phase.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 #include "rbaa/sim/contact_pair.hpp"
 #include "rbaa/sim/form.hpp"
 
@@ -91,7 +91,7 @@ class BodyContactForm : public Form {
   void check_separated(const Eigen::VectorXd& q) const;
 
   double kappa() const { return kappa_; }
-  const Barrier& barrier() const { return barrier_; }
+  const contact::Barrier& barrier() const { return barrier_; }
   int num_bodies() const { return static_cast<int>(body_ids_.size()); }
   /// The id of body i (ascending), as given in body_of_vertex.
   int body_id(int i) const { return body_ids_[i]; }
@@ -133,7 +133,7 @@ class BodyContactForm : public Form {
   std::vector<int> local_groups_;           // body id per surface vertex
   std::vector<contact::Triangles> body_F_;  // per body (index into body_ids_): its surface
   std::vector<double> edge_rest_squared_length_;
-  Barrier barrier_;
+  contact::Barrier barrier_;
   double kappa_;
   mutable Cache cache_[2];
   mutable int next_slot_ = 0;

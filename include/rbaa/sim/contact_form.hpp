@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 #include "rbaa/sim/contact_set.hpp"
 #include "rbaa/sim/form.hpp"
 
@@ -39,12 +39,12 @@ class ContactForm : public Form {
 
   double kappa() const { return kappa_; }
   const ContactSet& contact_set() const { return set_; }
-  const Barrier& barrier() const { return barrier_; }
+  const contact::Barrier& barrier() const { return barrier_; }
 
  private:
   // Active pairs at q, rebuilt per call: cheap for planes and keeps the form a pure function of q.
   mutable ContactSet set_;
-  Barrier barrier_;
+  contact::Barrier barrier_;
   double kappa_;
 };
 

@@ -20,7 +20,7 @@
 #include <Eigen/Core>
 
 #include "rbaa/contact/fixed_size.hpp"
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 #include "rbaa/sim/form.hpp"
 #include "rbaa/sim/sparse_hessian.hpp"
 
@@ -40,12 +40,12 @@ double pair_squared_distance(const ContactPairPoints& P);
 /// m: the edge-edge mollifier, 1 for vertex-triangle pairs.
 double pair_mollifier(const ContactPairPoints& P);
 /// Gradient g and exact Hessian H of phi over the pair's 12 dofs (P within d_hat, s > 0).
-void pair_derivatives(const ContactPairPoints& P, const Barrier& b, contact::Vector12d& g,
+void pair_derivatives(const ContactPairPoints& P, const contact::Barrier& b, contact::Vector12d& g,
                       contact::Matrix12d& H);
 /// phi(P1) - phi(P0) = m1 (b(d1) - b(d0)) + (m1 - m0) b(d0), the b difference without
 /// cancellation (Barrier::difference); +infinity when d1 is not positive.
 double pair_value_difference(const ContactPairPoints& P0, const ContactPairPoints& P1,
-                             const Barrier& b);
+                             const contact::Barrier& b);
 /// grad += scale * g over the pair's movable points.
 void add_pair_gradient(const ContactPairPoints& P, const contact::Vector12d& g, double scale,
                        Eigen::VectorXd& grad);

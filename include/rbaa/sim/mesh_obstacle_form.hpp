@@ -31,7 +31,7 @@
 #include "rbaa/contact/static_mesh_broad_phase.hpp"
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/sim/world.hpp"
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 #include "rbaa/sim/contact_pair.hpp"
 #include "rbaa/sim/form.hpp"
 
@@ -91,7 +91,7 @@ class MeshObstacleForm : public Form {
   ObstacleClearance clearance(const Eigen::VectorXd& q, double within) const;
 
   double kappa() const { return kappa_; }
-  const Barrier& barrier() const { return barrier_; }
+  const contact::Barrier& barrier() const { return barrier_; }
   const contact::Triangles& surface_triangles() const { return body_F_; }
   const contact::Edges& surface_edges() const { return body_E_; }
   const contact::StaticMeshBroadPhase& obstacles() const { return broad_; }
@@ -127,7 +127,7 @@ class MeshObstacleForm : public Form {
   contact::StaticMeshBroadPhase broad_;
   std::vector<int> mesh_of_vertex_;
   std::vector<std::string> mesh_names_;
-  Barrier barrier_;
+  contact::Barrier barrier_;
   double kappa_;
   mutable Cache cache_[2];
   mutable int next_slot_ = 0;

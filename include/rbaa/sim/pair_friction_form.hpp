@@ -98,7 +98,7 @@ class PairFrictionForm : public Form {
   };
   Slip slip(const LaggedFrictionPair& p, const Eigen::VectorXd& x) const;
   // Appends the pair at q_n (skipped when mu is 0).
-  void add_pair(LaggedFrictionPair p, const Barrier& barrier, double kappa,
+  void add_pair(LaggedFrictionPair p, const contact::Barrier& barrier, double kappa,
                 const Eigen::VectorXd& q_previous);
   // d lambda / d(the pair's 12 coordinates at q_n), for the lagged distance type.
   contact::Vector12d normal_force_gradient(const LaggedFrictionPair& p) const;

@@ -24,7 +24,7 @@
 
 #include <vector>
 
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 #include "rbaa/sim/form.hpp"
 #include "rbaa/sim/world.hpp"
 
@@ -84,7 +84,7 @@ class PlaneFrictionForm : public Form {
   std::vector<int> surface_vertices_;
   std::vector<Plane> planes_;
   std::vector<double> mu_;
-  Barrier barrier_;
+  contact::Barrier barrier_;
   double kappa_;
   double eps_;
   double a0_, a1_;  // x~ = a0 q_n + a1 q_{n-1}

@@ -5,7 +5,7 @@
 //
 // C2 at d_hat and infinite at d = 0. Applied to distances, not squared distances.
 
-namespace rbaa {
+namespace rbaa::contact {
 
 class Barrier {
  public:
@@ -27,4 +27,4 @@ class Barrier {
   double d_hat_;
 };
 
-}  // namespace rbaa
+}  // namespace rbaa::contact

@@ -1,9 +1,9 @@
-#include "rbaa/sim/barrier.hpp"
+#include "rbaa/contact/barrier.hpp"
 
 #include <cmath>
 #include <limits>
 
-namespace rbaa {
+namespace rbaa::contact {
 
 double Barrier::value(double d) const {
   if (d <= 0) return std::numeric_limits<double>::infinity();
@@ -32,4 +32,4 @@ double Barrier::second_derivative(double d) const {
   return -2.0 * std::log(d / d_hat_) - 4.0 * e / d + e * e / (d * d);
 }
 
-}  // namespace rbaa
+}  // namespace rbaa::contact
