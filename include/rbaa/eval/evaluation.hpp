@@ -5,11 +5,11 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "rbaa/eval/demonstration.hpp"
 #include "rbaa/eval/rigid_twin.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/material/material_field.hpp"
@@ -122,17 +122,23 @@ struct Evaluation {
   /// discretisation more than the object; a smaller evaluation step helps (README).
   double baseline_path_length = 0;  ///< m
   double baseline_disagreement = 0;
+  /// The demonstration (scene.demonstration), one row per run: rigid and deformable, reference,
+  /// adversarial and soft control (the control's rigid body is the reference's: same surface,
+  /// same moments, same calibration). Empty when the scene has no demonstration.
+  std::vector<DemonstrationOutcome> outcomes;
   /// The adversarial object as evaluated (placed at the scene's pose), for its pictures.
   TetMesh adversarial_mesh;
   MaterialField adversarial_materials;
 };
 
-/// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's
-/// initial pose; the reference uses the scene's uniform reference material. The adversarial
-/// object is then translated so that its own centre of mass is at scene.position
+/// Runs the four simulations (five with the soft control). `reference_mesh`/`adversarial_mesh` are
+/// placed at the scene's initial pose; the reference uses the scene's uniform reference material.
+/// The adversarial object is then translated so that its own centre of mass is at scene.position
 /// (place_centre_of_mass; round-off for an attack's moment-matched object). Throws
 /// rbaa::InputError if the adversarial object's outer surface is not the reference's or its
-/// materials do not fit its mesh.
+/// materials do not fit its mesh. In a scene with a demonstration block the adversarial object
+/// may come placed at its attack config's pose (the same shape, translated): it is first moved
+/// by the difference of the two bounding boxes' centres.
 Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,
                     const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options = {});
