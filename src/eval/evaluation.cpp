@@ -351,6 +351,21 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   return out;
 }
 
+// Whether every surface pair of the scene has the coefficient contact.friction: planes, obstacle
+// meshes and the pairs of bodies contact.pairs names.
+bool uniform_friction(const Scene& scene) {
+  for (const Plane& p : scene.planes) {
+    if (p.friction != scene.friction) return false;
+  }
+  for (const ObstacleMesh& m : scene.obstacle_meshes) {
+    if (m.friction != scene.friction) return false;
+  }
+  for (const BodyPairFriction& f : scene.friction_pairs) {
+    if (f.friction != scene.friction) return false;
+  }
+  return true;
+}
+
 struct NamedPaths {
   std::string run, simulator, object;
   std::vector<BodyPath> paths;  ///< empty: the run was not made
@@ -465,6 +480,13 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   // (or the refinements run out: then the finest step is used and the report says so).
   SimulationOptions sim_options;
   sim_options.kappa = ev.kappa;
+  // Bullet takes one Coulomb coefficient for every contact: the scene's contact.friction when
+  // every plane, mesh and pair of bodies has it (0 in a frictionless scene); otherwise the
+  // caller's (default 0), and the report says the twin's friction is not the scene's.
+  RigidSettings rigid_settings = options.rigid;
+  ev.rigid_friction_from_scene = uniform_friction(scene_in);
+  if (ev.rigid_friction_from_scene) rigid_settings.friction = scene_in.friction;
+  ev.rigid_friction = rigid_settings.friction;
   const int refinements = search ? scene_in.evaluation_max_refinements : 0;
   BaselineAtStep chosen;
   for (int k = 0; k <= refinements; ++k) {
@@ -473,7 +495,7 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
       *options.progress << "rbaa evaluate: baseline at step " << scene.time_step << " s ..." << std::flush;
     }
     chosen = run_baseline(scene, reference_mesh, reference_materials, sim_options, ref_mass, ref_shape,
-                          further, options.rigid, options.calibration_tolerance);
+                          further, rigid_settings, options.calibration_tolerance);
     ev.step_search.push_back(chosen.trial);
     if (search && options.progress) {
       *options.progress << " strays " << 100 * chosen.trial.disagreement << " % of its path from the rigid reference\n";
@@ -501,10 +523,10 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
     if (scene_in.demonstration.enabled) soft_paths = paths_from_deformable(scene_in, soft_run);
     ev.soft_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_soft);
     ev.soft_own_twin = own_twin(soft_run, ev.deformable_soft, "rigid twin of the soft control", ref_mass,
-                                ref_shape, scene, further, options.rigid, options.calibration_tolerance);
+                                ref_shape, scene, further, rigid_settings, options.calibration_tolerance);
   }
   ev.adversarial_own_twin = own_twin(adversarial, ev.deformable_adversarial, "rigid twin of the adversarial",
-                                     adv_mass, adv_shape, scene, further, options.rigid,
+                                     adv_mass, adv_shape, scene, further, rigid_settings,
                                      options.calibration_tolerance);
   const auto start = std::chrono::steady_clock::now();
   const auto rigid_adv =

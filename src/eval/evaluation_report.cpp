@@ -145,6 +145,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                    {"adversarial", moments_json(ev.adversarial_moments)}}},
       {"rigid", {{"simulator", "Bullet (double precision), semi-implicit Euler"},
                  {"internal_step_s", ev.rigid_internal_step},
+                 {"friction", ev.rigid_friction},
+                 {"friction_from_scene", ev.rigid_friction_from_scene},
                  {"collision_shape", ev.rigid_shape}}},
       {"calibration", calibration},
       {"rigid_vs_rigid", comparison_json(ev.rigid_vs_rigid)},
@@ -175,7 +177,11 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
         << "Duration " << fmt(ev.duration) << " s, step " << fmt(ev.time_step) << " s (attack built at "
         << fmt(ev.attack_time_step) << " s). Rigid: Bullet ("
-        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s. Compared: the "
+        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s, friction "
+        << fmt(ev.rigid_friction)
+        << (ev.rigid_friction_from_scene ? " (the scene's contact.friction)"
+                                         : " (not the scene's: its surfaces' coefficients differ, and Bullet has one)")
+        << ". Compared: the "
         << (scene.evaluation_body.empty() ? std::string("object") : "body '" + scene.evaluation_body + "'")
         << "'s centre of mass.\n\n"
         << "Restitution per plane, fitted to the deformable baseline's first rebound off it:\n\n"

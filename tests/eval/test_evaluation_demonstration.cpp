@@ -88,5 +88,41 @@ TEST(EvaluationDemonstration, AHoopTheBallMissesIsFalseForEveryRun) {
     EXPECT_FALSE(o.predicate.holds) << o.run << ": " << o.predicate.detail;
 }
 
+TEST(EvaluationDemonstration, TheRigidTwinSlidesWithTheScenesFrictionWhenEverySurfaceHasIt) {
+  // A cube sliding at 1 m/s on a floor with mu = 0.4 decelerates at mu g = 3.92 m/s^2: after
+  // 0.2 s it moves at 0.216 m/s, in Bullet as on the FEM mesh.
+  const std::string yaml =
+      "mesh: {shape: cube, side: 0.1, target_tets: 200}\n"
+      "object: {position: [0, 0, 0.0515], velocity: [0, 1, 0]}\n"
+      "obstacles: {planes: [{normal: [0, 0, 1], offset: 0}]}\n"
+      "time: {step: 0.01, duration: 0.2}\n"
+      "evaluation: {time_step: 0.005, duration: 0.2}\n"
+      "contact: {kappa: 1.0e5, friction: FRICTION}\n"
+      "reference_material: {Y: 1.0e10, nu: 0.3, rho: 1000}\n"
+      "demonstration: {figure: angle}\n";
+  auto with = [&](const std::string& friction, const std::string& plane_friction) {
+    std::string text = yaml;
+    text.replace(text.find("FRICTION"), 8, friction);
+    if (!plane_friction.empty()) text.replace(text.find("offset: 0}"), 10, "offset: 0, friction: " + plane_friction + "}");
+    return parse_scene(text, "sliding_cube.yaml", "");
+  };
+  const Scene scene = with("0.4", "");
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField same = MaterialField::uniform(mesh.num_tets(), scene.reference_Y, scene.reference_nu,
+                                                    scene.reference_rho, 1.0);
+  EvaluationOptions options;
+  options.soft_control = false;
+  const Evaluation ev = evaluate(scene, mesh, mesh, same, options);
+  EXPECT_TRUE(ev.rigid_friction_from_scene);
+  EXPECT_DOUBLE_EQ(ev.rigid_friction, 0.4);
+  const double expected = 1.0 - 0.4 * 9.8 * 0.2;
+  EXPECT_NEAR(ev.rigid_reference.velocity.back().y(), expected, 0.03);
+  EXPECT_NEAR(ev.deformable_reference.velocity.back().y(), expected, 0.03);
+  // Coefficients that differ (the floor's own 0.3): Bullet's one coefficient is not the scene's.
+  const Evaluation mixed = evaluate(with("0.4", "0.3"), mesh, mesh, same, options);
+  EXPECT_FALSE(mixed.rigid_friction_from_scene);
+  EXPECT_DOUBLE_EQ(mixed.rigid_friction, 0.0);
+}
+
 }  // namespace
 }  // namespace rbaa

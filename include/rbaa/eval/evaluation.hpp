@@ -83,7 +83,9 @@ struct EvaluationOptions {
   /// modulus (same moments): the share of a gap that softness alone explains.
   bool soft_control = true;
   std::ostream* progress = nullptr;  ///< one line per step tried by the search
-  RigidSettings rigid;          ///< plane restitutions are overwritten by the calibration
+  /// Plane restitutions are overwritten by the calibration, and the friction by the scene's
+  /// contact.friction when every surface has it (Evaluation::rigid_friction).
+  RigidSettings rigid;
   double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
 };
 
@@ -97,6 +99,11 @@ struct Evaluation {
   Moments reference_moments, adversarial_moments;
   std::string rigid_shape;        ///< which Bullet collision shape, and why
   double rigid_internal_step = 0;
+  /// The twins' Coulomb coefficient (Bullet has one for every contact): contact.friction when
+  /// the scene's planes, meshes and pairs of bodies all have it (rigid_friction_from_scene),
+  /// else EvaluationOptions::rigid.friction.
+  double rigid_friction = 0;
+  bool rigid_friction_from_scene = false;
   /// One per plane the baseline bounces off, in the order of their first bounces (each fitted
   /// with the earlier planes' values in place). A single restitution cannot reproduce BDF-2's
   /// rebounds, which depend on where in a step the impact falls (SPEC section 2).
