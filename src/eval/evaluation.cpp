@@ -71,6 +71,63 @@ RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run
   return t;
 }
 
+// Every body's path in a deformable run (the object, then the scene's bodies), for the
+// demonstration's predicates: centre of mass and best-fit rotation of its vertices (weighted by
+// the run's vertex masses), its bounding radius from the rest positions.
+std::vector<BodyPath> paths_from_deformable(const Scene& scene, const SimulationRun& run) {
+  std::vector<std::pair<int, int>> ranges;  // first vertex, count
+  if (run.bodies.empty()) {
+    ranges.emplace_back(0, static_cast<int>(run.vertex_masses.size()));
+  } else {
+    for (const Body& b : run.bodies) ranges.emplace_back(b.vertex_begin, b.num_vertices());
+  }
+  std::vector<BodyPath> paths;
+  const Trajectory& traj = run.trajectory;
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    const auto [begin, count] = ranges[i];
+    BodyPath p;
+    p.name = i == 0 ? "object" : scene.bodies.at(i - 1).name;
+    const Eigen::VectorXd m = run.vertex_masses.segment(begin, count);
+    const auto part = [&](const Eigen::VectorXd& x) {
+      return Eigen::VectorXd(x.segment(3 * begin, 3 * count));
+    };
+    const Eigen::VectorXd rest = part(traj.q[0]);
+    for (int k = 0; k < static_cast<int>(traj.q.size()); ++k) {
+      const Eigen::VectorXd x = part(traj.q[k]);
+      p.time.push_back(traj.time(k));
+      p.centre.push_back(centre_of_mass(x, m));
+      p.velocity.push_back(centre_of_mass(part(traj.velocity(k)), m));
+      p.rotation.push_back(best_fit_rotation(rest, x, m));
+    }
+    const Eigen::MatrixXd V =
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(rest.data(),
+                                                                                    count, 3);
+    p.bounding_radius = bounding_radius(V, p.centre.front());
+    paths.push_back(std::move(p));
+  }
+  return paths;
+}
+
+// Every body's path in a rigid run, with the bounding radii of the same bodies' deformable paths
+// (the same surfaces about the same centres of mass).
+std::vector<BodyPath> paths_from_rigid(const std::vector<std::vector<RigidState>>& states,
+                                       const std::vector<BodyPath>& shapes) {
+  std::vector<BodyPath> paths;
+  for (size_t i = 0; i < states.size() && i < shapes.size(); ++i) {
+    BodyPath p;
+    p.name = shapes[i].name;
+    p.bounding_radius = shapes[i].bounding_radius;
+    for (const RigidState& s : states[i]) {
+      p.time.push_back(s.time);
+      p.centre.push_back(s.position);
+      p.velocity.push_back(s.velocity);
+      p.rotation.push_back(s.orientation);
+    }
+    paths.push_back(std::move(p));
+  }
+  return paths;
+}
+
 // The body evaluation.body names: 0 the object, i > 0 the scene's bodies[i - 1].
 int evaluated_body(const Scene& scene) {
   for (size_t i = 0; i < scene.bodies.size(); ++i) {
@@ -258,6 +315,7 @@ struct BaselineAtStep {
   std::vector<RestitutionCalibration> calibrations;
   RigidSettings rigid;
   double rigid_internal_step = 0;
+  std::vector<BodyPath> baseline_paths, rigid_paths;  ///< every body's, for a demonstration
 };
 
 BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const MaterialField& materials,
@@ -277,14 +335,68 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   out.rigid = rigid;
 
   const auto rigid_start = std::chrono::steady_clock::now();
-  const auto rigid_states = simulate_rigid(mass, shape, scene, rigid, scene.duration, further, traced);
-  out.rigid_reference = trace_from_rigid("rigid reference", rigid_states, seconds_since(rigid_start));
+  const auto rigid_bodies_states =
+      simulate_rigid_bodies(mass, shape, scene, rigid, scene.duration, further);
+  out.rigid_reference = trace_from_rigid("rigid reference", rigid_bodies_states.at(traced),
+                                         seconds_since(rigid_start));
+  if (scene.demonstration.enabled) {
+    out.baseline_paths = paths_from_deformable(scene, baseline);
+    out.rigid_paths = paths_from_rigid(rigid_bodies_states, out.baseline_paths);
+  }
   const RunComparison gap = compare_runs(out.baseline, out.rigid_reference);
   out.trial.time_step = scene.time_step;
   out.trial.path_length = path_length(out.baseline);
   out.trial.disagreement = out.trial.path_length > 0 ? gap.max_position_gap / out.trial.path_length : 0.0;
   out.trial.seconds = seconds_since(start);
   return out;
+}
+
+// Whether every surface pair of the scene has the coefficient contact.friction: planes, obstacle
+// meshes and the pairs of bodies contact.pairs names.
+bool uniform_friction(const Scene& scene) {
+  for (const Plane& p : scene.planes) {
+    if (p.friction != scene.friction) return false;
+  }
+  for (const ObstacleMesh& m : scene.obstacle_meshes) {
+    if (m.friction != scene.friction) return false;
+  }
+  for (const BodyPairFriction& f : scene.friction_pairs) {
+    if (f.friction != scene.friction) return false;
+  }
+  return true;
+}
+
+struct NamedPaths {
+  std::string run, simulator, object;
+  std::vector<BodyPath> paths;  ///< empty: the run was not made
+};
+
+// The outcome table: each run's predicate and figure (the angle of figure_body's final velocity
+// to the rigid reference's).
+std::vector<DemonstrationOutcome> demonstration_outcomes(const DemonstrationSpec& demo,
+                                                         const std::vector<NamedPaths>& runs) {
+  std::vector<DemonstrationOutcome> rows;
+  const BodyPath* rigid_reference = nullptr;
+  for (const NamedPaths& r : runs) {
+    if (r.simulator == "rigid" && r.object == "reference")
+      rigid_reference = &find_path(r.paths, demo.figure_body);
+  }
+  for (const NamedPaths& r : runs) {
+    if (r.paths.empty()) continue;
+    DemonstrationOutcome row;
+    row.run = r.run;
+    row.simulator = r.simulator;
+    row.object = r.object;
+    row.has_predicate = demo.predicate.kind != PredicateSpec::Kind::kNone;
+    if (row.has_predicate) row.predicate = evaluate_predicate(demo.predicate, r.paths);
+    row.figure = NAN;
+    if (demo.figure == "angle" && rigid_reference) {
+      row.figure = angle_between_deg(find_path(r.paths, demo.figure_body).velocity.back(),
+                                     rigid_reference->velocity.back());
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 }  // namespace
@@ -302,13 +414,22 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   }
   validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
                           "adversarial materials");
-  check_same_surface(reference_mesh, adversarial_as_given, "adversarial mesh");
+  TetMesh adversarial_moved = adversarial_as_given;
+  if (scene_in.demonstration.enabled) {
+    // A demonstration starts the attack's object elsewhere (the ball from its release, not from
+    // just before the backboard): the same shape, translated. Rotations are not undone.
+    const Eigen::RowVector3d ref_mid =
+        0.5 * (reference_mesh.V.colwise().minCoeff() + reference_mesh.V.colwise().maxCoeff());
+    const Eigen::RowVector3d adv_mid = 0.5 * (adversarial_as_given.V.colwise().minCoeff() +
+                                              adversarial_as_given.V.colwise().maxCoeff());
+    adversarial_moved.V.rowwise() += ref_mid - adv_mid;
+  }
+  check_same_surface(reference_mesh, adversarial_moved, "adversarial mesh");
   // object.position is the centre of mass: an object whose materials put it elsewhere than the
   // reference's centroid starts translated (an attack's object has the reference's moments, so
   // the translation is round-off).
-  const TetMesh adversarial_mesh =
-      place_centre_of_mass(scene_in, adversarial_as_given,
-                           adversarial_materials.effective_density(), "adversarial mesh");
+  const TetMesh adversarial_mesh = place_centre_of_mass(
+      scene_in, adversarial_moved, adversarial_materials.effective_density(), "adversarial mesh");
   Evaluation ev;
   Scene scene = scene_in;
   ev.attack_time_step = scene_in.time_step;
@@ -359,6 +480,13 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   // (or the refinements run out: then the finest step is used and the report says so).
   SimulationOptions sim_options;
   sim_options.kappa = ev.kappa;
+  // Bullet takes one Coulomb coefficient for every contact: the scene's contact.friction when
+  // every plane, mesh and pair of bodies has it (0 in a frictionless scene); otherwise the
+  // caller's (default 0), and the report says the twin's friction is not the scene's.
+  RigidSettings rigid_settings = options.rigid;
+  ev.rigid_friction_from_scene = uniform_friction(scene_in);
+  if (ev.rigid_friction_from_scene) rigid_settings.friction = scene_in.friction;
+  ev.rigid_friction = rigid_settings.friction;
   const int refinements = search ? scene_in.evaluation_max_refinements : 0;
   BaselineAtStep chosen;
   for (int k = 0; k <= refinements; ++k) {
@@ -367,7 +495,7 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
       *options.progress << "rbaa evaluate: baseline at step " << scene.time_step << " s ..." << std::flush;
     }
     chosen = run_baseline(scene, reference_mesh, reference_materials, sim_options, ref_mass, ref_shape,
-                          further, options.rigid, options.calibration_tolerance);
+                          further, rigid_settings, options.calibration_tolerance);
     ev.step_search.push_back(chosen.trial);
     if (search && options.progress) {
       *options.progress << " strays " << 100 * chosen.trial.disagreement << " % of its path from the rigid reference\n";
@@ -385,23 +513,39 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   const SimulationRun adversarial = run_simulation(scene, adversarial_mesh, adversarial_materials, sim_options);
   const int traced = evaluated_body(scene_in);
   ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial, traced);
+  std::vector<BodyPath> soft_paths;
   if (options.soft_control) {
     ev.soft_Y = scene_in.Y_range.lo;
     const MaterialField soft = MaterialField::uniform(reference_mesh.num_tets(), ev.soft_Y, scene.reference_nu,
                                                       scene.reference_rho, 1.0);
     const SimulationRun soft_run = run_simulation(scene, reference_mesh, soft, sim_options);
     ev.deformable_soft = trace_from_deformable("deformable soft uniform", soft_run, traced);
+    if (scene_in.demonstration.enabled) soft_paths = paths_from_deformable(scene_in, soft_run);
     ev.soft_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_soft);
     ev.soft_own_twin = own_twin(soft_run, ev.deformable_soft, "rigid twin of the soft control", ref_mass,
-                                ref_shape, scene, further, options.rigid, options.calibration_tolerance);
+                                ref_shape, scene, further, rigid_settings, options.calibration_tolerance);
   }
   ev.adversarial_own_twin = own_twin(adversarial, ev.deformable_adversarial, "rigid twin of the adversarial",
-                                     adv_mass, adv_shape, scene, further, options.rigid,
+                                     adv_mass, adv_shape, scene, further, rigid_settings,
                                      options.calibration_tolerance);
   const auto start = std::chrono::steady_clock::now();
   const auto rigid_adv =
-      simulate_rigid(adv_mass, adv_shape, scene, chosen.rigid, ev.duration, further, traced);
-  ev.rigid_adversarial = trace_from_rigid("rigid adversarial", rigid_adv, seconds_since(start));
+      simulate_rigid_bodies(adv_mass, adv_shape, scene, chosen.rigid, ev.duration, further);
+  ev.rigid_adversarial =
+      trace_from_rigid("rigid adversarial", rigid_adv.at(traced), seconds_since(start));
+  if (scene_in.demonstration.enabled) {
+    const std::vector<BodyPath> adversarial_paths = paths_from_deformable(scene_in, adversarial);
+    ev.outcomes = demonstration_outcomes(
+        scene_in.demonstration,
+        {{"rigid reference", "rigid", "reference", chosen.rigid_paths},
+         {"rigid adversarial", "rigid", "adversarial",
+          paths_from_rigid(rigid_adv, adversarial_paths)},
+         {"rigid soft control (the reference's rigid body)", "rigid", "soft control",
+          options.soft_control ? chosen.rigid_paths : std::vector<BodyPath>{}},
+         {"deformable reference", "deformable", "reference", chosen.baseline_paths},
+         {"deformable adversarial", "deformable", "adversarial", adversarial_paths},
+         {"deformable soft control", "deformable", "soft control", soft_paths}});
+  }
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);
   ev.deformable_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_adversarial);

@@ -1,5 +1,6 @@
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
@@ -112,8 +113,29 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     search.push_back({{"time_step_s", t.time_step}, {"baseline_path_length_m", t.path_length},
                       {"baseline_disagreement", t.disagreement}, {"seconds", t.seconds}});
   }
+  nlohmann::json outcomes = nullptr;
+  if (scene.demonstration.enabled) {
+    const DemonstrationSpec& demo = scene.demonstration;
+    outcomes = {
+        {"predicate", predicate_kind_name(demo.predicate.kind)},
+        {"figure", demo.figure.empty() ? nlohmann::json(nullptr) : nlohmann::json(demo.figure)},
+        {"figure_body", demo.figure_body},
+        {"runs", nlohmann::json::array()}};
+    for (const DemonstrationOutcome& o : ev.outcomes) {
+      outcomes["runs"].push_back({{"run", o.run},
+                                  {"simulator", o.simulator},
+                                  {"object", o.object},
+                                  {"predicate", o.has_predicate ? nlohmann::json(o.predicate.holds)
+                                                                : nlohmann::json(nullptr)},
+                                  {"detail", o.has_predicate ? nlohmann::json(o.predicate.detail)
+                                                             : nlohmann::json(nullptr)},
+                                  {"figure_deg", std::isnan(o.figure) ? nlohmann::json(nullptr)
+                                                                      : nlohmann::json(o.figure)}});
+    }
+  }
   nlohmann::json report = {
       {"scene", scene.name},
+      {"outcomes", outcomes},
       {"compared_body", scene.evaluation_body.empty() ? "object" : scene.evaluation_body},
       {"duration_s", ev.duration},
       {"time_step_s", ev.time_step},
@@ -123,6 +145,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                    {"adversarial", moments_json(ev.adversarial_moments)}}},
       {"rigid", {{"simulator", "Bullet (double precision), semi-implicit Euler"},
                  {"internal_step_s", ev.rigid_internal_step},
+                 {"friction", ev.rigid_friction},
+                 {"friction_from_scene", ev.rigid_friction_from_scene},
                  {"collision_shape", ev.rigid_shape}}},
       {"calibration", calibration},
       {"rigid_vs_rigid", comparison_json(ev.rigid_vs_rigid)},
@@ -153,7 +177,11 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
         << "Duration " << fmt(ev.duration) << " s, step " << fmt(ev.time_step) << " s (attack built at "
         << fmt(ev.attack_time_step) << " s). Rigid: Bullet ("
-        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s. Compared: the "
+        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s, friction "
+        << fmt(ev.rigid_friction)
+        << (ev.rigid_friction_from_scene ? " (the scene's contact.friction)"
+                                         : " (not the scene's: its surfaces' coefficients differ, and Bullet has one)")
+        << ". Compared: the "
         << (scene.evaluation_body.empty() ? std::string("object") : "body '" + scene.evaluation_body + "'")
         << "'s centre of mass.\n\n"
         << "Restitution per plane, fitted to the deformable baseline's first rebound off it:\n\n"
@@ -164,6 +192,22 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
           << fmt(c.rigid_rebound, 6) << (c.calibrated ? "" : " (not fitted)") << " | " << fmt(c.restitution, 6) << " | ";
       for (double r : c.later_deformable_rebounds) out << fmt(r) << " ";
       out << "|\n";
+    }
+    if (scene.demonstration.enabled) {
+      const DemonstrationSpec& demo = scene.demonstration;
+      out << "\nDemonstration outcomes: predicate `" << predicate_kind_name(demo.predicate.kind)
+          << "`"
+          << (demo.figure.empty()
+                  ? std::string()
+                  : "; figure: the angle between the final centre-of-mass velocity of body '" +
+                        demo.figure_body + "' and the rigid reference's (deg)")
+          << ".\n\n| run | predicate | figure (deg) | why |\n|---|---|---|---|\n";
+      for (const DemonstrationOutcome& o : ev.outcomes) {
+        out << "| " << o.run << " | "
+            << (o.has_predicate ? (o.predicate.holds ? "true" : "false") : "-") << " | "
+            << (std::isnan(o.figure) ? std::string("-") : fmt(o.figure)) << " | "
+            << (o.has_predicate ? o.predicate.detail : std::string()) << " |\n";
+      }
     }
     out << "\n"
         << "| pair | centre-of-mass gap at T (m) | max gap (m) | velocity angle (deg) | orientation gap (deg) |\n"

@@ -25,6 +25,12 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
     throw InputError(scene.source + ": the rigid twin has no body " + std::to_string(body) +
                      " (the object and " + std::to_string(further.size()) + " further)");
   }
+  return simulate_rigid_bodies(mass, shape, scene, settings, duration, further)[body];
+}
+
+std::vector<std::vector<RigidState>> simulate_rigid_bodies(
+    const RigidMassProperties& mass, const RigidShape& shape, const Scene& scene,
+    const RigidSettings& settings, double duration, const std::vector<RigidBody>& further) {
   // A margin beyond d_hat would let the twin bounce off a gap the deformable body never feels.
   if (settings.margin > scene.d_hat) {
     std::ostringstream msg;
@@ -49,7 +55,7 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
   }
   bodies.push_back(std::move(object));
   bodies.insert(bodies.end(), further.begin(), further.end());
-  return simulate_rigid(rigid_world(scene, std::move(bodies)), settings, duration)[body];
+  return simulate_rigid(rigid_world(scene, std::move(bodies)), settings, duration);
 }
 
 }  // namespace rbaa

@@ -296,6 +296,20 @@ DriveSpec read_drive(MapReader& pose) {
 
 }  // namespace
 
+const char* predicate_kind_name(PredicateSpec::Kind kind) {
+  switch (kind) {
+    case PredicateSpec::Kind::kNone:
+      return "none";
+    case PredicateSpec::Kind::kThroughHoop:
+      return "through_hoop";
+    case PredicateSpec::Kind::kInsideBox:
+      return "inside_box";
+    case PredicateSpec::Kind::kStands:
+      return "stands";
+  }
+  return "?";
+}
+
 const char* objective_kind_name(ObjectiveSpec::Kind kind) {
   switch (kind) {
     case ObjectiveSpec::Kind::kUndirected:
@@ -612,6 +626,86 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
       }
     }
     o.finish();
+  }
+  if (top.has("demonstration")) {
+    const YAML::Node node = top.child("demonstration");
+    MapReader d(node, source, "demonstration");
+    DemonstrationSpec& demo = s.demonstration;
+    demo.enabled = true;
+    const std::string default_body = s.evaluation_body.empty() ? "object" : s.evaluation_body;
+    if (d.has("predicate")) {
+      const YAML::Node pn = d.child("predicate");
+      MapReader p(pn, source, "demonstration.predicate");
+      if (!p.has("kind")) p.fail(pn, "kind", "missing (through_hoop, inside_box or stands)");
+      const std::string kind = p.text("kind", "", {"through_hoop", "inside_box", "stands"});
+      PredicateSpec& pred = demo.predicate;
+      auto require = [&](const char* key, const std::string& what) {
+        if (!p.has(key)) p.fail(pn, key, "missing (" + what + ") for kind " + kind);
+      };
+      if (kind == "through_hoop" || kind == "inside_box") {
+        pred.body = p.text("body", default_body, names);
+      }
+      if (kind == "through_hoop") {
+        pred.kind = PredicateSpec::Kind::kThroughHoop;
+        require("centre", "the hoop's centre [x, y, z], m");
+        require("radius", "the opening's radius, m");
+        pred.centre = p.vector3("centre", pred.centre);
+        pred.axis = p.vector3("axis", pred.axis);
+        if (!(pred.axis.norm() > 0))
+          p.fail(p.child("axis"), "axis", "value [0, 0, 0] is not a direction");
+        pred.axis.normalize();
+        pred.radius = p.number("radius", 0, 0.0, inf, true);
+      } else if (kind == "inside_box") {
+        pred.kind = PredicateSpec::Kind::kInsideBox;
+        require("min", "the box's lowest corner [x, y, z], m");
+        require("max", "the box's highest corner [x, y, z], m");
+        pred.min = p.vector3("min", pred.min);
+        pred.max = p.vector3("max", pred.max);
+        for (int i = 0; i < 3; ++i) {
+          if (!(pred.min[i] < pred.max[i]))
+            p.fail(p.child("max"), "max", "must exceed min in every coordinate");
+        }
+        pred.stays_below_top = p.text("stays_below_top", "false", {"true", "false"}) == "true";
+      } else {
+        pred.kind = PredicateSpec::Kind::kStands;
+        require("bodies", "a list of body names");
+        const YAML::Node b = p.child("bodies");
+        if (!b.IsSequence() || b.size() == 0)
+          p.fail(b, "bodies", "expected a non-empty list of body names");
+        for (const auto& item : b) {
+          const std::string name = item.IsScalar() ? item.Scalar() : "";
+          if (!names.count(name)) {
+            std::string list;
+            for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+            p.fail(item, "bodies", "'" + name + "' names no body (the bodies are: " + list + ")");
+          }
+          if (std::count(pred.bodies.begin(), pred.bodies.end(), name))
+            p.fail(item, "bodies", "'" + name + "' is listed twice");
+          pred.bodies.push_back(name);
+        }
+        pred.max_tilt_deg = p.number("max_tilt_deg", pred.max_tilt_deg, 0.0, 180.0, true);
+        require("min_height", "m: one height, or one per body");
+        const YAML::Node h = p.child("min_height");
+        if (h.IsSequence()) {
+          if (h.size() != pred.bodies.size()) {
+            p.fail(h, "min_height",
+                   "expected one height or " + std::to_string(pred.bodies.size()) +
+                       " (one per body), got " + std::to_string(h.size()));
+          }
+          for (const auto& item : h)
+            pred.min_height.push_back(p.to_number(item, "min_height", -inf, inf, false, false));
+        } else {
+          pred.min_height.push_back(p.number("min_height", 0, -inf, inf));
+        }
+      }
+      p.finish();
+    }
+    demo.figure = d.text("figure", "", {"angle"});
+    demo.figure_body = d.text("figure_body", default_body, names);
+    d.finish();
+    if (demo.predicate.kind == PredicateSpec::Kind::kNone && demo.figure.empty()) {
+      d.fail(node, "", "give a predicate, a figure or both");
+    }
   }
   top.finish();
   return s;

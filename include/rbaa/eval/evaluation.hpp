@@ -5,11 +5,11 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "rbaa/eval/demonstration.hpp"
 #include "rbaa/eval/rigid_twin.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/material/material_field.hpp"
@@ -83,7 +83,9 @@ struct EvaluationOptions {
   /// modulus (same moments): the share of a gap that softness alone explains.
   bool soft_control = true;
   std::ostream* progress = nullptr;  ///< one line per step tried by the search
-  RigidSettings rigid;          ///< plane restitutions are overwritten by the calibration
+  /// Plane restitutions are overwritten by the calibration, and the friction by the scene's
+  /// contact.friction when every surface has it (Evaluation::rigid_friction).
+  RigidSettings rigid;
   double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
 };
 
@@ -97,6 +99,11 @@ struct Evaluation {
   Moments reference_moments, adversarial_moments;
   std::string rigid_shape;        ///< which Bullet collision shape, and why
   double rigid_internal_step = 0;
+  /// The twins' Coulomb coefficient (Bullet has one for every contact): contact.friction when
+  /// the scene's planes, meshes and pairs of bodies all have it (rigid_friction_from_scene),
+  /// else EvaluationOptions::rigid.friction.
+  double rigid_friction = 0;
+  bool rigid_friction_from_scene = false;
   /// One per plane the baseline bounces off, in the order of their first bounces (each fitted
   /// with the earlier planes' values in place). A single restitution cannot reproduce BDF-2's
   /// rebounds, which depend on where in a step the impact falls (SPEC section 2).
@@ -122,17 +129,23 @@ struct Evaluation {
   /// discretisation more than the object; a smaller evaluation step helps (README).
   double baseline_path_length = 0;  ///< m
   double baseline_disagreement = 0;
+  /// The demonstration (scene.demonstration), one row per run: rigid and deformable, reference,
+  /// adversarial and soft control (the control's rigid body is the reference's: same surface,
+  /// same moments, same calibration). Empty when the scene has no demonstration.
+  std::vector<DemonstrationOutcome> outcomes;
   /// The adversarial object as evaluated (placed at the scene's pose), for its pictures.
   TetMesh adversarial_mesh;
   MaterialField adversarial_materials;
 };
 
-/// Runs the four simulations. `reference_mesh`/`adversarial_mesh` are placed at the scene's
-/// initial pose; the reference uses the scene's uniform reference material. The adversarial
-/// object is then translated so that its own centre of mass is at scene.position
+/// Runs the four simulations (five with the soft control). `reference_mesh`/`adversarial_mesh` are
+/// placed at the scene's initial pose; the reference uses the scene's uniform reference material.
+/// The adversarial object is then translated so that its own centre of mass is at scene.position
 /// (place_centre_of_mass; round-off for an attack's moment-matched object). Throws
 /// rbaa::InputError if the adversarial object's outer surface is not the reference's or its
-/// materials do not fit its mesh.
+/// materials do not fit its mesh. In a scene with a demonstration block the adversarial object
+/// may come placed at its attack config's pose (the same shape, translated): it is first moved
+/// by the difference of the two bounding boxes' centres.
 Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,
                     const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options = {});

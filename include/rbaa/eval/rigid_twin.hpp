@@ -24,4 +24,9 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
                                        double duration, const std::vector<RigidBody>& further = {},
                                        int body = 0);
 
+/// The same run, every body's states: [0] the object, [i] further[i - 1].
+std::vector<std::vector<RigidState>> simulate_rigid_bodies(
+    const RigidMassProperties& mass, const RigidShape& shape, const Scene& scene,
+    const RigidSettings& settings, double duration, const std::vector<RigidBody>& further = {});
+
 }  // namespace rbaa

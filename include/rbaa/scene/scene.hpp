@@ -97,6 +97,48 @@ struct ObjectiveSpec {
 /// "undirected", "target", "away".
 const char* objective_kind_name(ObjectiveSpec::Kind kind);
 
+/// What a demonstration checks (the config's `demonstration.predicate`): a yes/no outcome of a
+/// run, evaluated on every run of `rbaa evaluate` (eval/demonstration.hpp).
+struct PredicateSpec {
+  enum class Kind {
+    kNone,
+    /// The body's centre of mass crosses the disc {x : axis.(x - centre) = 0, |x - centre| <=
+    /// radius} against `axis` (downwards for axis +z), within radius minus the body's bounding
+    /// radius of the centre: the body's bounding sphere fits through the opening.
+    kThroughHoop,
+    /// The body's centre of mass ends inside the axis-aligned box [min, max]; with
+    /// stays_below_top, it also stays below max.z from the first sample inside the box on.
+    kInsideBox,
+    /// Each of `bodies` ends with its initial pose's +z within max_tilt_deg of world +z and its
+    /// centre of mass above min_height (one height for all, or one per body).
+    kStands,
+  };
+  Kind kind = Kind::kNone;
+  std::string body;  ///< through_hoop, inside_box: "object" or a bodies[i].name
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< through_hoop (m)
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   ///< through_hoop (unit)
+  double radius = 0;                                 ///< through_hoop, the opening's radius (m)
+  Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();  ///< inside_box
+  bool stays_below_top = false;                                                  ///< inside_box
+  std::vector<std::string> bodies;                                               ///< stands
+  double max_tilt_deg = 10;                                                      ///< stands
+  std::vector<double> min_height;  ///< stands: one value, or one per body (m)
+};
+
+/// "none", "through_hoop", "inside_box", "stands".
+const char* predicate_kind_name(PredicateSpec::Kind kind);
+
+/// The config's `demonstration` block: how `rbaa evaluate` judges each run of a demonstration
+/// scene (configs/demos/). Either or both of a predicate and a figure.
+struct DemonstrationSpec {
+  bool enabled = false;
+  PredicateSpec predicate;
+  /// The scene's figure per run: "angle" (the angle between the run's final centre-of-mass
+  /// velocity of `figure_body` and the rigid reference's, deg), or "" (none).
+  std::string figure;
+  std::string figure_body;  ///< "object" or a bodies[i].name; default evaluation.body
+};
+
 /// A Coulomb coefficient between two bodies (contact.pairs[i]): body 0 is the object, body
 /// i + 1 is bodies[i].
 struct BodyPairFriction {
@@ -152,6 +194,8 @@ struct Scene {
   /// velocity angles): "" (or "object") the object; else a further body's name (the bat's struck
   /// ball).
   std::string evaluation_body;
+  /// demonstration: the predicate and figure `rbaa evaluate` reports per run (outcome table).
+  DemonstrationSpec demonstration;
 
   // Contact (IPC log barrier on unsigned distances).
   double d_hat = 1e-3;  ///< activation distance (m)
