@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
@@ -97,6 +98,18 @@ DesignSpace::DesignSpace(const TetMesh& mesh, const DesignSpaceOptions& options,
     throw InputError(msg.str());
   }
   boundary_ = boundary_elements(mesh, o.boundary_by_vertex);
+  if (!o.solid_vertices.empty()) {
+    std::vector<char> solid(mesh.num_vertices(), 0);
+    for (int v : o.solid_vertices) {
+      if (v < 0 || v >= mesh.num_vertices()) {
+        throw InputError("design space: solid vertex " + std::to_string(v) + " is not in the mesh");
+      }
+      solid[v] = 1;
+    }
+    for (int e = 0; e < num_tets_; ++e) {
+      for (int a = 0; a < 4; ++a) boundary_[e] = boundary_[e] || solid[mesh.T(e, a)];
+    }
+  }
   for (int e = 0; e < num_tets_; ++e) {
     if (!designed_flag_[e]) continue;
     designed_.push_back(e);

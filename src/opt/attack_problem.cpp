@@ -259,8 +259,14 @@ AttackProblem build_attack_problem(const Scene& scene, const AttackProblemOption
   if (!options.fields.empty()) design_options.fields = options.fields;
   std::vector<char> mask(p.world.mesh.num_tets(), 0);
   for (int e = a.element_begin; e < a.element_end; ++e) mask[e] = 1;
-  p.design = std::make_unique<DesignSpace>(p.world.mesh, design_options, std::move(mask));
+  // The drive holds A by its driven vertices: their elements stay solid (not designed), so that
+  // the continuous design is the object rounding keeps (every driven vertex stays in it).
+  DesignSpaceOptions world_options = design_options;
+  world_options.solid_vertices = a.driven_vertices;
+  p.design = std::make_unique<DesignSpace>(p.world.mesh, world_options, std::move(mask));
   p.design->hold_fixed_elements(p.reference_materials);
+  design_options.solid_vertices.clear();
+  for (int v : a.driven_vertices) design_options.solid_vertices.push_back(v - a.vertex_begin);
   p.body_design = std::make_unique<DesignSpace>(p.body_mesh, design_options);
 
   p.storage = options.storage;

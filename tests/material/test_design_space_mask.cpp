@@ -186,5 +186,45 @@ TEST(DesignSpaceMask, RejectsAMaskOfTheWrongSizeOrSelectingNothing) {
   EXPECT_THROW(ok.hold_fixed_elements(MaterialField::uniform(3, 1e10, 0.3, 2500)), InputError);
 }
 
+// Solid vertices (a driven body's driven vertices): every element touching one is held solid like
+// a boundary element (alpha not designed, 1 at any theta); the rest of the interior stays designed.
+TEST(DesignSpaceMask, ElementsOfSolidVerticesAreHeldSolid) {
+  const TetMesh mesh = box_tet_mesh({0, 0, 0}, {1, 1, 1}, 4, 4, 4);
+  const std::vector<char> boundary = boundary_elements(mesh);
+  // An interior vertex: on no boundary element.
+  std::vector<char> on_boundary(mesh.num_vertices(), 0);
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    if (boundary[e]) {
+      for (int a = 0; a < 4; ++a) on_boundary[mesh.T(e, a)] = 1;
+    }
+  }
+  const int v = static_cast<int>(std::find(on_boundary.begin(), on_boundary.end(), 0) - on_boundary.begin());
+  ASSERT_LT(v, mesh.num_vertices());
+  DesignSpaceOptions o;
+  o.perturbation = 0.5;
+  const DesignSpace plain(mesh, o);
+  o.solid_vertices = {v};
+  const DesignSpace held(mesh, o);
+  int touching = 0;
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    bool touches = false;
+    for (int a = 0; a < 4; ++a) touches = touches || mesh.T(e, a) == v;
+    touching += touches;
+    EXPECT_EQ(held.boundary()[e] != 0, boundary[e] != 0 || touches) << e;
+  }
+  ASSERT_GT(touching, 0);
+  EXPECT_EQ(held.num_interior(), plain.num_interior() - touching);
+  const MaterialField m = held.to_material(held.initial_theta(true));
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    for (int a = 0; a < 4; ++a) {
+      if (mesh.T(e, a) == v) {
+        EXPECT_EQ(m.alpha[e], 1.0) << e;
+      }
+    }
+  }
+  o.solid_vertices = {mesh.num_vertices()};
+  EXPECT_THROW(DesignSpace(mesh, o), InputError);
+}
+
 }  // namespace
 }  // namespace rbaa

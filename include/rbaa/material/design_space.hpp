@@ -54,6 +54,9 @@ struct DesignSpaceOptions {
   double alpha0 = 0.99;
 
   bool boundary_by_vertex = false;
+  /// Vertices whose elements are held solid like boundary elements (occupancy 1, not designed):
+  /// a driven body's driven vertices, which the drive holds and which must stay in the object.
+  std::vector<int> solid_vertices;
   std::uint64_t seed = 1;
   double perturbation = 0.1;  ///< standard deviation of the Gaussian perturbation of theta_0
 };
