@@ -50,6 +50,17 @@ void copy_elements(MaterialField& to, int to_begin, const MaterialField& from, i
   to.alpha.segment(to_begin, n) = from.alpha.segment(from_begin, n);
 }
 
+// The world's design space, masked to A, its elements outside A holding the reference
+// materials, and the same layout on A's own mesh.
+void make_designs(AttackProblem& p, const DesignSpaceOptions& options) {
+  const Body& a = p.body();
+  std::vector<char> mask(p.world.mesh.num_tets(), 0);
+  for (int e = a.element_begin; e < a.element_end; ++e) mask[e] = 1;
+  p.design = std::make_unique<DesignSpace>(p.world.mesh, options, std::move(mask));
+  p.design->hold_fixed_elements(p.reference_materials);
+  p.body_design = std::make_unique<DesignSpace>(p.body_mesh, options);
+}
+
 }  // namespace
 
 int body_index(const Scene& scene, const std::string& name, const std::string& what) {
@@ -114,6 +125,26 @@ BodyFinalState AttackProblem::final_state(const Eigen::VectorXd& q_final,
   s.com_gap = (body_centre_of_mass(q_final, world.mesh, density, body()) - reference_com).norm();
   s.scored_com = body_centre_of_mass(q_final, world.mesh, density, world.bodies[scored]);
   return s;
+}
+
+BodyRun AttackProblem::simulate(const MaterialField& body_field) const {
+  const MaterialField materials = world_materials(body_field);
+  Simulator sim(world.mesh, materials, settings);
+  const Trajectory run = sim.run(q0, v0);
+  BodyRun r;
+  r.objective = objective->evaluate(run, materials, nullptr);
+  r.state = final_state(run.q.back(), materials);
+  return r;
+}
+
+void AttackProblem::start_from(double Y0, double nu0) {
+  scene.Y0 = Y0;
+  scene.nu0 = nu0;
+  DesignSpaceOptions o = design->options();
+  o.Y0 = Y0;
+  o.nu0 = nu0;
+  make_designs(*this, o);
+  if (gradient) gradient = make_gradient(storage);
 }
 
 std::unique_ptr<TrajectoryGradientFunction> AttackProblem::make_gradient(
@@ -257,11 +288,7 @@ AttackProblem build_attack_problem(const Scene& scene, const AttackProblemOption
 
   DesignSpaceOptions design_options = design_space_options(scene);
   if (!options.fields.empty()) design_options.fields = options.fields;
-  std::vector<char> mask(p.world.mesh.num_tets(), 0);
-  for (int e = a.element_begin; e < a.element_end; ++e) mask[e] = 1;
-  p.design = std::make_unique<DesignSpace>(p.world.mesh, design_options, std::move(mask));
-  p.design->hold_fixed_elements(p.reference_materials);
-  p.body_design = std::make_unique<DesignSpace>(p.body_mesh, design_options);
+  make_designs(p, design_options);
 
   p.storage = options.storage;
   if (p.storage == FactorStorage::kStore) {
