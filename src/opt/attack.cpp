@@ -297,7 +297,25 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   AttackProblemOptions problem_options;
   problem_options.storage = options.storage;
   problem_options.on_stage = stage;
-  const AttackProblem problem = build_attack_problem(scene, problem_options);
+  AttackProblem problem = build_attack_problem(scene, problem_options);
+  if (scene.start_best_uniform) {
+    // Issue 20 item 3: start from the uniform material the objective likes best.
+    stage("evaluating 9 uniform starts (Y, nu at the ends and middle of their ranges)");
+    r.start = find_best_uniform_start(problem, [&stage](const UniformCandidate& c) {
+      std::ostringstream line;
+      line.precision(4);
+      line << "  uniform Y = " << c.Y << " Pa, nu = " << c.nu << ": objective " << c.objective
+           << ", gap " << c.gap << " m";
+      stage(line.str());
+    });
+    const UniformCandidate& best = r.start.best();
+    problem.start_from(best.Y, best.nu);
+    std::ostringstream line;
+    line.precision(4);
+    line << "starting from the best uniform material Y = " << best.Y << " Pa, nu = " << best.nu
+         << " (objective " << best.objective << ", gap " << best.gap << " m)";
+    stage(line.str());
+  }
   auto name = [&scene](int i) { return i == 0 ? std::string("object") : scene.bodies[i - 1].name; };
   r.attacked_body = name(problem.attacked);
   r.scored_body = name(problem.scored);
@@ -311,6 +329,8 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   // Moments, smoothing and post-processing work on A's own mesh, in the same layout as the
   // world's masked design that f maps theta with.
   const DesignSpace& design = *problem.body_design;
+  r.start_Y = design.initial_material().Y[0];
+  r.start_nu = design.initial_material().nu[0];
   // The moment term measures moments about the reference's centre of mass: the same zero set as
   // about the origin (an invertible linear map of the 10 moments), but with the object far from the
   // origin (the ball: 3.4 m, L = 0.075 m) the rows about the origin amplify first- and second-moment
@@ -364,10 +384,27 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
     stage("stopped early, keeping the last design whose simulation succeeded: " + r.loop.stopped_early);
     final_value = term(r.loop.theta, nullptr);
   }
+  r.objective_final = final_value.value + moments.penalty(r.loop.theta, scene.beta, nullptr);
+  // Stopped early, the loop's theta is its last evaluated design (progress.back()'s).
+  r.kept_iteration = static_cast<int>(r.loop.progress.size()) - (r.loop.stopped_early.empty() ? 0 : 1);
+  const int best = r.loop.best_iteration;
+  if (scene.start_best_uniform && best >= 0 && best != r.kept_iteration &&
+      r.loop.progress[best].objective < r.objective_final) {
+    // The attack must not end below its start (issue 20 item 3): Adam's last step can overshoot,
+    // so the best evaluated design is the result when the last one is worse.
+    std::ostringstream line;
+    line.precision(6);
+    line << "the last design (objective " << r.objective_final << ") is worse than iteration "
+         << best << "'s (" << r.loop.progress[best].objective << "): keeping iteration " << best << "'s";
+    stage(line.str());
+    r.loop.theta = r.loop.best_theta;
+    r.kept_iteration = best;
+    final_value = term(r.loop.theta, nullptr);
+    r.objective_final = final_value.value + moments.penalty(r.loop.theta, scene.beta, nullptr);
+  }
   r.gap_continuous = final_value.gap;
   r.com_gap_continuous = final_value.com_gap;
   r.scored_com_continuous = scored_com;
-  r.objective_final = final_value.value + moments.penalty(r.loop.theta, scene.beta, nullptr);
   r.continuous = design.to_material(r.loop.theta);
   if (r.loop.failed_theta.size() > 0) r.failed = design.to_material(r.loop.failed_theta);
   r.continuous_max_residual = moments.residuals(r.loop.theta).cwiseAbs().maxCoeff();
@@ -496,6 +533,7 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
         {"body", r.scored_body},
         {"final_object", r.objective_final_object}}},
       {"attacked_body", r.attacked_body},
+      {"loop", {{"kept_iteration", r.kept_iteration}}},
       {"occupancy",
        {{"void_fraction", r.post.void_fraction},
         {"components",
@@ -517,6 +555,22 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
         {"refinement_s", r.refinement.seconds},
         {"total_s", r.total_seconds}}}};
   auto vec = [](const Eigen::Vector3d& v) { return std::vector<double>{v.x(), v.y(), v.z()}; };
+  {
+    // The loop's start; with best_uniform the candidates it was chosen from.
+    nlohmann::json start = {{"kind", scene.start_best_uniform ? "best_uniform" : "given"},
+                            {"Y", r.start_Y},
+                            {"nu", r.start_nu}};
+    if (!r.start.candidates.empty()) {
+      start["objective"] = r.start.best().objective;
+      start["gap"] = r.start.best().gap;
+      nlohmann::json candidates = nlohmann::json::array();
+      for (const UniformCandidate& c : r.start.candidates) {
+        candidates.push_back({{"Y", c.Y}, {"nu", c.nu}, {"objective", c.objective}, {"gap", c.gap}});
+      }
+      start["candidates"] = candidates;
+    }
+    report["start"] = start;
+  }
   {
     const RefinementCheck& c = r.refinement;
     auto measured = [&c](double x) { return c.measured ? nlohmann::json(x) : nlohmann::json(nullptr); };

@@ -43,7 +43,9 @@ void save_checkpoint(const std::string& path, const AttackCheckpoint& c) {
                             {"progress", rows},
                             {"forward_seconds", c.forward_seconds},
                             {"adjoint_seconds", c.adjoint_seconds},
-                            {"elapsed_seconds", c.elapsed_seconds}};
+                            {"elapsed_seconds", c.elapsed_seconds},
+                            {"best_iteration", c.best_iteration},
+                            {"best_theta", to_json(c.best_theta)}};
   // nlohmann writes the shortest decimal that reads back to the same double.
   write_file_atomically(path, [&](std::ostream& out) { out << j.dump() << "\n"; });
 }
@@ -70,6 +72,11 @@ AttackCheckpoint load_checkpoint(const std::string& path, const std::string& exp
     c.forward_seconds = j.at("forward_seconds").get<double>();
     c.adjoint_seconds = j.at("adjoint_seconds").get<double>();
     c.elapsed_seconds = j.at("elapsed_seconds").get<double>();
+    // Older checkpoints did not keep the best design: then none is known.
+    if (j.contains("best_iteration") && j.contains("best_theta")) {
+      c.best_iteration = j.at("best_iteration").get<int>();
+      c.best_theta = vector_from(j.at("best_theta"));
+    }
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path + ": malformed checkpoint (" + e.what() + ")");
   }
@@ -78,7 +85,9 @@ AttackCheckpoint load_checkpoint(const std::string& path, const std::string& exp
                      c.fingerprint + ", expected " + expected_fingerprint + "); remove it or drop --resume");
   }
   if (c.theta.size() != expected_size || (c.adam.m.size() != 0 && c.adam.m.size() != expected_size) ||
-      c.adam.v.size() != c.adam.m.size() || static_cast<int>(c.progress.size()) != c.iteration) {
+      c.adam.v.size() != c.adam.m.size() || static_cast<int>(c.progress.size()) != c.iteration ||
+      c.best_iteration >= c.iteration ||
+      (c.best_iteration >= 0 && c.best_theta.size() != expected_size)) {
     throw InputError(path + ": checkpoint does not fit this design (sizes differ)");
   }
   return c;
@@ -139,6 +148,8 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     result.elapsed_seconds = c.elapsed_seconds;
     start = result.resumed_from = c.iteration;
     evaluated = c.evaluated_theta;
+    result.best_iteration = c.best_iteration;
+    result.best_theta = c.best_theta;
   } else if (options.project_moments) {
     // The seeded perturbation of theta_0 breaks the moments (1e-2 on the ball); start from the
     // nearest matched design instead, so that the first gap measures dynamics, not mass shift.
@@ -177,6 +188,10 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     row.gap = traj.gap;
     row.com_gap = traj.com_gap;
     row.max_moment_residual = moments.residuals(theta).cwiseAbs().maxCoeff();
+    if (result.best_iteration < 0 || row.objective < result.progress[result.best_iteration].objective) {
+      result.best_iteration = k;
+      result.best_theta = theta;
+    }
     const Eigen::VectorXd before = theta;
     if (options.project_moments) {
       // Descend along the moments' tangent in M's metric: with W = M J^T, the direction
@@ -202,7 +217,8 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     if (!options.checkpoint_path.empty()) {
       save_checkpoint(options.checkpoint_path,
                       {options.fingerprint, k + 1, theta, evaluated, adam.state(), result.progress,
-                       result.forward_seconds, result.adjoint_seconds, result.elapsed_seconds});
+                       result.forward_seconds, result.adjoint_seconds, result.elapsed_seconds,
+                       result.best_iteration, result.best_theta});
     }
     if (!options.progress_path.empty()) write_progress_csv(options.progress_path, result.progress);
     if (options.on_iteration) options.on_iteration(row, options.iterations);

@@ -50,6 +50,24 @@ void copy_elements(MaterialField& to, int to_begin, const MaterialField& from, i
   to.alpha.segment(to_begin, n) = from.alpha.segment(from_begin, n);
 }
 
+// The world's design space, masked to A, its elements outside A holding the reference
+// materials, and the same layout on A's own mesh.
+void make_designs(AttackProblem& p, const DesignSpaceOptions& options) {
+  const Body& a = p.body();
+  std::vector<char> mask(p.world.mesh.num_tets(), 0);
+  for (int e = a.element_begin; e < a.element_end; ++e) mask[e] = 1;
+  // The drive holds A by its driven vertices: their elements stay solid (not designed), so that
+  // the continuous design is the object rounding keeps (every driven vertex stays in it).
+  DesignSpaceOptions world_options = options;
+  world_options.solid_vertices = a.driven_vertices;
+  p.design = std::make_unique<DesignSpace>(p.world.mesh, world_options, std::move(mask));
+  p.design->hold_fixed_elements(p.reference_materials);
+  DesignSpaceOptions body_options = options;
+  body_options.solid_vertices.clear();
+  for (int v : a.driven_vertices) body_options.solid_vertices.push_back(v - a.vertex_begin);
+  p.body_design = std::make_unique<DesignSpace>(p.body_mesh, body_options);
+}
+
 }  // namespace
 
 int body_index(const Scene& scene, const std::string& name, const std::string& what) {
@@ -114,6 +132,26 @@ BodyFinalState AttackProblem::final_state(const Eigen::VectorXd& q_final,
   s.com_gap = (body_centre_of_mass(q_final, world.mesh, density, body()) - reference_com).norm();
   s.scored_com = body_centre_of_mass(q_final, world.mesh, density, world.bodies[scored]);
   return s;
+}
+
+BodyRun AttackProblem::simulate(const MaterialField& body_field) const {
+  const MaterialField materials = world_materials(body_field);
+  Simulator sim(world.mesh, materials, settings);
+  const Trajectory run = sim.run(q0, v0);
+  BodyRun r;
+  r.objective = objective->evaluate(run, materials, nullptr);
+  r.state = final_state(run.q.back(), materials);
+  return r;
+}
+
+void AttackProblem::start_from(double Y0, double nu0) {
+  scene.Y0 = Y0;
+  scene.nu0 = nu0;
+  DesignSpaceOptions o = design->options();
+  o.Y0 = Y0;
+  o.nu0 = nu0;
+  make_designs(*this, o);
+  if (gradient) gradient = make_gradient(storage);
 }
 
 std::unique_ptr<TrajectoryGradientFunction> AttackProblem::make_gradient(
@@ -257,17 +295,7 @@ AttackProblem build_attack_problem(const Scene& scene, const AttackProblemOption
 
   DesignSpaceOptions design_options = design_space_options(scene);
   if (!options.fields.empty()) design_options.fields = options.fields;
-  std::vector<char> mask(p.world.mesh.num_tets(), 0);
-  for (int e = a.element_begin; e < a.element_end; ++e) mask[e] = 1;
-  // The drive holds A by its driven vertices: their elements stay solid (not designed), so that
-  // the continuous design is the object rounding keeps (every driven vertex stays in it).
-  DesignSpaceOptions world_options = design_options;
-  world_options.solid_vertices = a.driven_vertices;
-  p.design = std::make_unique<DesignSpace>(p.world.mesh, world_options, std::move(mask));
-  p.design->hold_fixed_elements(p.reference_materials);
-  design_options.solid_vertices.clear();
-  for (int v : a.driven_vertices) design_options.solid_vertices.push_back(v - a.vertex_begin);
-  p.body_design = std::make_unique<DesignSpace>(p.body_mesh, design_options);
+  make_designs(p, design_options);
 
   p.storage = options.storage;
   if (p.storage == FactorStorage::kStore) {

@@ -587,6 +587,12 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     // Strictly inside the bounds: the tanh map reaches a bound only at theta = +-infinity.
     if (a.has("Y0")) s.Y0 = a.number("Y0", 0, s.Y_range.lo, s.Y_range.hi, true, true);
     if (a.has("nu0")) s.nu0 = a.number("nu0", 0, s.nu_range.lo, s.nu_range.hi, true, true);
+    s.start_best_uniform = a.text("start", "given", {"given", "best_uniform"}) == "best_uniform";
+    if (s.start_best_uniform && (a.has("Y0") || a.has("nu0"))) {
+      a.fail(a.child("start"), "start",
+             "best_uniform chooses Y0 and nu0 itself (remove attack.Y0 and attack.nu0, or use "
+             "start: given)");
+    }
     s.smoothing_gamma = a.number("smoothing_gamma", s.smoothing_gamma, 0.0, inf);
     s.boundary_by_vertex = a.text("boundary", "faces", {"faces", "vertices"}) == "vertices";
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);

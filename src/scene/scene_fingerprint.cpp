@@ -144,6 +144,8 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "attack.boundary " << (s.boundary_by_vertex ? "vertices" : "faces") << "\n";
   t << "attack.round_threshold " << number(s.round_threshold) << "\n";
   t << "attack.project_moments " << (s.project_moments ? "true" : "false") << "\n";
+  // Only the non-default start prints, so older fingerprints stay valid.
+  if (s.start_best_uniform) t << "attack.start best_uniform\n";
   // The attacked body and the objective print only when not the defaults, so older fingerprints
   // stay valid.
   if (s.attack_body != "object") t << "attack.body " << s.attack_body << "\n";

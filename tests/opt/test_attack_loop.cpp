@@ -80,6 +80,45 @@ TEST_F(AttackLoop, ResumedRunEqualsUninterruptedRun) {
   EXPECT_EQ(lines, 9);
 }
 
+// The loop keeps its best evaluated design (issue 20 item 3): on an oscillating term that a large
+// learning rate overshoots, best_iteration is the row with the lowest objective and best_theta the
+// design it was measured at; a resumed run keeps them bit for bit through the checkpoint.
+TEST_F(AttackLoop, KeepsItsBestDesignAcrossAResume) {
+  std::vector<Eigen::VectorXd> evaluated;
+  const TrajectoryTerm wavy = [&evaluated](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    evaluated.push_back(theta);
+    if (gradient) *gradient = 3e-3 * (3 * theta).array().cos().matrix();
+    const double v = 1e-3 * (3 * theta).array().sin().sum();
+    return TrajectoryTermValue{v, std::abs(v), 0.0, 0.0, 0.0};
+  };
+  const Eigen::VectorXd theta0 = design_->initial_theta();
+  AttackLoopOptions o = options(8);
+  o.adam.learning_rate = 1.0;
+  const AttackLoopResult straight = run_attack_loop(*design_, *moments_, smoother_.get(), wavy, theta0, o);
+  ASSERT_EQ(straight.progress.size(), 8u);
+  ASSERT_EQ(evaluated.size(), 8u);
+  int lowest = 0;
+  for (int k = 1; k < 8; ++k) {
+    if (straight.progress[k].objective < straight.progress[lowest].objective) lowest = k;
+  }
+  EXPECT_EQ(straight.best_iteration, lowest);
+  EXPECT_TRUE(straight.best_theta == evaluated[lowest]);
+  // The overshoot is real: the last row is worse than the best.
+  EXPECT_LT(straight.progress[lowest].objective, straight.progress.back().objective);
+
+  std::filesystem::remove(dir_ + "/checkpoint.json");
+  AttackLoopOptions killed = options(3);
+  killed.adam.learning_rate = 1.0;
+  run_attack_loop(*design_, *moments_, smoother_.get(), wavy, theta0, killed);
+  AttackLoopOptions resume = o;
+  resume.resume = true;
+  const AttackLoopResult resumed = run_attack_loop(*design_, *moments_, smoother_.get(), wavy, theta0, resume);
+  EXPECT_EQ(resumed.resumed_from, 3);
+  EXPECT_EQ(resumed.best_iteration, straight.best_iteration);
+  EXPECT_TRUE(resumed.best_theta == straight.best_theta);
+  EXPECT_TRUE(resumed.theta == straight.theta);
+}
+
 TEST_F(AttackLoop, IncompatibleCheckpointIsAClearError) {
   const Eigen::VectorXd theta0 = design_->initial_theta();
   run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, options(2));

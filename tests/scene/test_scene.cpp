@@ -247,9 +247,18 @@ TEST(Scene, FingerprintSeesEverySettingThatChangesAResult) {
         "attack.learning_rate=0.1", "attack.beta=1e3", "attack.adam_beta1=0.9", "attack.adam_beta2=0.99",
         "attack.seed=2", "attack.perturbation=0.2", "attack.alpha0=0.9", "attack.Y0=1e10", "attack.nu0=0.3",
         "attack.smoothing_gamma=2", "attack.boundary=vertices", "attack.round_threshold=0.4",
-        "attack.project_moments=false", "newton.rigid_predictor=false"}) {
+        "attack.project_moments=false", "attack.start=best_uniform", "newton.rigid_predictor=false"}) {
     EXPECT_NE(scene_fingerprint(parse_scene(base, "a.yaml", "", {o})), fp) << o;
   }
+}
+
+// attack.start is `given` (default) or `best_uniform`; best_uniform chooses Y0 and nu0 itself.
+TEST(Scene, AttackStartIsGivenOrBestUniform) {
+  const std::string base = "mesh: {shape: cube, target_tets: 500}\n";
+  EXPECT_FALSE(parse_scene(base, "a.yaml", "").start_best_uniform);
+  EXPECT_TRUE(parse_scene(base, "a.yaml", "", {"attack.start=best_uniform"}).start_best_uniform);
+  expect_error(base, {"attack.start", "bogus", "best_uniform"}, {"attack.start=bogus"});
+  expect_error(base, {"attack.start", "Y0"}, {"attack.start=best_uniform", "attack.Y0=1e10"});
 }
 
 // A tet mesh file enters by its content: editing it changes the fingerprint, moving it does not.

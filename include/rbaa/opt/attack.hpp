@@ -21,6 +21,7 @@
 #include "rbaa/mesh/tet_mesh.hpp"
 #include "rbaa/opt/attack_loop.hpp"
 #include "rbaa/opt/post_process.hpp"
+#include "rbaa/opt/uniform_start.hpp"
 #include "rbaa/scene/scene.hpp"
 
 namespace rbaa {
@@ -82,6 +83,14 @@ struct AttackResult {
   Eigen::Vector3d scored_com_continuous = Eigen::Vector3d::Zero();
   Eigen::Vector3d scored_com_final = Eigen::Vector3d::Zero();
   RefinementCheck refinement;
+  /// The loop's start: Y0, nu0 of its initial material (Pa, -), and with attack.start:
+  /// best_uniform the candidates it was chosen from (uniform_start.hpp; empty otherwise).
+  double start_Y = 0, start_nu = 0;
+  UniformStart start;
+  /// Which design is the continuous result: progress[kept_iteration]'s, or, when it equals the
+  /// number of iterations, the design after the last step. With best_uniform the loop's best
+  /// evaluated design is kept when the last one is worse.
+  int kept_iteration = 0;
   double forward_seconds = 0, adjoint_seconds = 0, total_seconds = 0;
 };
 

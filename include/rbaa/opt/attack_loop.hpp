@@ -53,6 +53,10 @@ struct AttackCheckpoint {
   AdamState adam;
   std::vector<ProgressRow> progress;
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
+  /// The evaluated design with the lowest objective so far (progress[best_iteration]); -1 and
+  /// empty before any (or in a checkpoint written before they were kept).
+  int best_iteration = -1;
+  Eigen::VectorXd best_theta;
 };
 
 /// Writes the checkpoint atomically (write, then rename), doubles exactly.
@@ -96,6 +100,12 @@ struct AttackLoopResult {
   /// is where to fall back to.
   Eigen::VectorXd evaluated_theta;
   std::vector<ProgressRow> progress;
+  /// The evaluated design with the lowest objective (objective incl. the moment term, the first
+  /// on ties): progress[best_iteration] was measured at best_theta. -1 and empty if none was (or
+  /// the run resumed from a checkpoint that did not keep it). The design after the last step,
+  /// `theta`, is not evaluated by the loop: a caller that wants the best of all compares it too.
+  int best_iteration = -1;
+  Eigen::VectorXd best_theta;
   int resumed_from = 0;   ///< iterations loaded from the checkpoint
   double forward_seconds = 0, adjoint_seconds = 0, elapsed_seconds = 0;
 };

@@ -63,6 +63,12 @@ struct BodyFinalState {
   Eigen::Vector3d scored_com = Eigen::Vector3d::Zero();  ///< c_B(T) (m)
 };
 
+/// A world run with A's materials replaced: the objective's trajectory term and A's figures.
+struct BodyRun {
+  double objective = 0;  ///< the objective's trajectory term (no moment term)
+  BodyFinalState state;
+};
+
 /// A world with the attacked body's mesh replaced (AttackProblem::with_body): what simulating and
 /// differentiating it needs.
 struct ReplacedWorld {
@@ -119,6 +125,12 @@ struct AttackProblem {
   MaterialField body_materials(const MaterialField& world_field) const;
   /// A's report figures of a world run with the given (world) materials.
   BodyFinalState final_state(const Eigen::VectorXd& q_final, const MaterialField& materials) const;
+  /// Simulates the world with A's elements at `body_field` (#T_A) and the others at
+  /// reference_materials, from q0, v0. Throws rbaa::SolverError if the run fails.
+  BodyRun simulate(const MaterialField& body_field) const;
+  /// Sets scene.Y0, scene.nu0 and rebuilds design, body_design and (if there was one) gradient
+  /// on them: the same layout and maps, the new initial material (attack.start: best_uniform).
+  void start_from(double Y0, double nu0);
   /// A new gradient function on the current *design (e.g. after hold_fixed_fields).
   std::unique_ptr<TrajectoryGradientFunction> make_gradient(FactorStorage storage) const;
   /// The world with A's mesh replaced by `mesh` (placed; vertex i was A's vertex vertex_origin[i],

@@ -243,6 +243,11 @@ struct Scene {
   /// soft object that `rbaa evaluate` uses as its control.
   double Y0 = std::numeric_limits<double>::quiet_NaN();
   double nu0 = std::numeric_limits<double>::quiet_NaN();
+  /// attack.start: `given` starts from Y0, nu0; `best_uniform` first simulates the attacked body
+  /// uniform at Y, nu in {lo, mid, hi} of their ranges (rho the reference's), starts from the one
+  /// the objective likes best, and keeps the loop's best iterate if its last is worse
+  /// (opt/uniform_start.hpp).
+  bool start_best_uniform = false;
   double smoothing_gamma = 1.0;  ///< relative to the mean edge length squared
   bool boundary_by_vertex = false;  ///< fix elements with any boundary vertex (else: boundary face)
   double round_threshold = 0.5;
