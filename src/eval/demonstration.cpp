@@ -1,19 +1,14 @@
 #include "rbaa/eval/demonstration.hpp"
 
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 
 #include "rbaa/error.hpp"
+#include "rbaa/io/number_text.hpp"
 
 namespace rbaa {
 namespace {
 
-std::string fmt(double x) {
-  std::ostringstream out;
-  out << std::setprecision(4) << x;
-  return out.str();
-}
+std::string fmt(double x) { return format_significant(x, 4); }
 
 void require_samples(const BodyPath& path) {
   if (path.centre.empty())

@@ -4,24 +4,19 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <iomanip>
 #include <ostream>
-#include <sstream>
 
 #include "rbaa/error.hpp"
 #include "rbaa/eval/gnuplot.hpp"
 #include "rbaa/io/atomic_file.hpp"
+#include "rbaa/io/number_text.hpp"
 
 namespace rbaa {
 
 namespace {
 
 // A plane's offset for a panel's title: four significant digits.
-std::string short_number(double x) {
-  std::ostringstream o;
-  o << std::setprecision(4) << x;
-  return o.str();
-}
+std::string short_number(double x) { return format_significant(x, 4); }
 
 }  // namespace
 

@@ -12,6 +12,13 @@ std::string format_double(double x) {
   return std::string(buffer, result.ptr);
 }
 
+std::string format_significant(double x, int digits) {
+  char buffer[64];
+  const auto result =
+      std::to_chars(buffer, buffer + sizeof(buffer), x, std::chars_format::general, digits);
+  return std::string(buffer, result.ptr);
+}
+
 void write_double(std::ostream& os, double x) {
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof(buffer), x);

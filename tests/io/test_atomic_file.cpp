@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <algorithm>
 #include <limits>
 
@@ -113,6 +115,16 @@ TEST(NumberText, ShortestExactForm) {
   EXPECT_EQ(*parse_int("-42"), -42);
   EXPECT_FALSE(parse_int("4.2"));
   EXPECT_FALSE(parse_int("99999999999999999999"));
+}
+
+// Report figures to a few significant digits, as printf's %.4g, whatever the stream's locale.
+TEST(NumberText, SignificantDigitsAsPrintfG) {
+  for (double x : {0.0, 0.12345678, -0.000123456, 123456.0, 2.5e9, 1.0 / 3.0, 7.3}) {
+    char expected[64];
+    std::snprintf(expected, sizeof(expected), "%.4g", x);
+    EXPECT_EQ(format_significant(x, 4), expected) << x;
+  }
+  EXPECT_EQ(format_significant(0.6353, 2), "0.64");
 }
 
 TEST(TextReader, LineBoundAndStreamReads) {

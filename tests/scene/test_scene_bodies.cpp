@@ -14,6 +14,7 @@
 #include "rbaa/scene/scene_fingerprint.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/scene/scene_world.hpp"
+#include "scene/scene_errors.hpp"
 
 namespace rbaa {
 namespace {
@@ -32,15 +33,6 @@ std::string two_cubes(const std::string& extra = "") {
          extra;
 }
 
-std::string error_of(const std::string& yaml) {
-  try {
-    const Scene s = parse_scene(yaml, "test.yaml", "");
-    make_world(s, make_scene_mesh(s));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(SceneBodies, AreStackedAfterTheObjectWithTheirOwnPlacementAndMotion) {
   const Scene s = parse_scene(two_cubes(), "test.yaml", "");
@@ -96,23 +88,23 @@ TEST(SceneBodies, ASceneWithoutBodiesIsTheObjectAlone) {
 }
 
 TEST(SceneBodies, BadBodiesAreRefusedInOneLineNamingTheKey) {
-  const std::string dup = error_of(two_cubes("  - name: second\n    mesh: {shape: cube}\n    position: [1, 0, 0]\n"));
+  const std::string dup = test::scene_world_error(two_cubes("  - name: second\n    mesh: {shape: cube}\n    position: [1, 0, 0]\n"));
   EXPECT_NE(dup.find("bodies[1].name"), std::string::npos) << dup;
   EXPECT_NE(dup.find("'second' names two bodies"), std::string::npos) << dup;
-  const std::string object_name = error_of(two_cubes("  - name: object\n    mesh: {shape: cube}\n"));
+  const std::string object_name = test::scene_world_error(two_cubes("  - name: object\n    mesh: {shape: cube}\n"));
   EXPECT_NE(object_name.find("'object' names two bodies"), std::string::npos) << object_name;
-  const std::string no_mesh = error_of(two_cubes("  - position: [1, 0, 0]\n"));
+  const std::string no_mesh = test::scene_world_error(two_cubes("  - position: [1, 0, 0]\n"));
   EXPECT_NE(no_mesh.find("bodies[1].mesh"), std::string::npos) << no_mesh;
   const std::string two_sources =
-      error_of(two_cubes("  - mesh: {shape: cube, file: x.msh}\n    position: [1, 0, 0]\n"));
+      test::scene_world_error(two_cubes("  - mesh: {shape: cube, file: x.msh}\n    position: [1, 0, 0]\n"));
   EXPECT_NE(two_sources.find("bodies[1].mesh"), std::string::npos) << two_sources;
   EXPECT_NE(two_sources.find("exactly one of shape, surface, file"), std::string::npos) << two_sources;
-  const std::string unknown = error_of(two_cubes("  - mesh: {shape: cube}\n    colour: red\n"));
+  const std::string unknown = test::scene_world_error(two_cubes("  - mesh: {shape: cube}\n    colour: red\n"));
   EXPECT_NE(unknown.find("bodies[1].colour"), std::string::npos) << unknown;
-  const std::string not_a_list = error_of("mesh: {shape: cube}\nbodies: {name: x}\n");
+  const std::string not_a_list = test::scene_world_error("mesh: {shape: cube}\nbodies: {name: x}\n");
   EXPECT_NE(not_a_list.find("expected a list of bodies"), std::string::npos) << not_a_list;
   const std::string bad_rotation =
-      error_of(two_cubes("  - mesh: {shape: cube}\n    position: [1, 0, 0]\n    rotation: {axis: [0, 0, 0], angle_deg: 10}\n"));
+      test::scene_world_error(two_cubes("  - mesh: {shape: cube}\n    position: [1, 0, 0]\n    rotation: {axis: [0, 0, 0], angle_deg: 10}\n"));
   EXPECT_NE(bad_rotation.find("bodies[1].rotation.axis"), std::string::npos) << bad_rotation;
   for (const std::string& e : {dup, object_name, no_mesh, two_sources, unknown, not_a_list, bad_rotation}) {
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
@@ -121,11 +113,11 @@ TEST(SceneBodies, BadBodiesAreRefusedInOneLineNamingTheKey) {
 }
 
 TEST(SceneBodies, ABodyStartingOnAPlaneIsRefusedNamingIt) {
-  const std::string e = error_of(two_cubes("obstacles: {planes: [{normal: [0, 0, 1], offset: -0.02}]}\n"
+  const std::string e = test::scene_world_error(two_cubes("obstacles: {planes: [{normal: [0, 0, 1], offset: -0.02}]}\n"
                                            "contact: {kappa: 1}\n"));
   // The object (side 0.1, centred at 0) crosses z = -0.02 first; move it up to reach the body.
   EXPECT_NE(e.find("the object starts intersecting obstacles.planes[0]"), std::string::npos) << e;
-  const std::string b = error_of(
+  const std::string b = test::scene_world_error(
       "mesh: {shape: cube, side: 0.1, target_tets: 100}\nobject: {position: [0, 0, 1]}\n"
       "obstacles: {planes: [{normal: [0, 0, 1], offset: 0}]}\ncontact: {kappa: 1}\n"
       "bodies: [{name: low, mesh: {shape: cube, side: 0.1}, position: [1, 0, 0.04]}]\n");
@@ -162,12 +154,12 @@ TEST(SceneFriction, PlanesTakeTheirOwnCoefficientOrTheContactDefault) {
   EXPECT_EQ(s.planes[1].friction, 0.3);
   EXPECT_EQ(s.friction_eps_v, 0.01);
   EXPECT_EQ(simulation_settings(s, 1.0).friction_eps_v, 0.01);
-  const std::string negative = error_of(
+  const std::string negative = test::scene_world_error(
       "mesh: {shape: cube}\nobstacles: {planes: [{normal: [0, 0, 1], offset: -1, friction: -0.1}]}\n");
   EXPECT_NE(negative.find("obstacles.planes[0].friction"), std::string::npos) << negative;
-  const std::string eps = error_of("mesh: {shape: cube}\ncontact: {friction_eps_v: 0}\n");
+  const std::string eps = test::scene_world_error("mesh: {shape: cube}\ncontact: {friction_eps_v: 0}\n");
   EXPECT_NE(eps.find("contact.friction_eps_v"), std::string::npos) << eps;
-  const std::string mu = error_of("mesh: {shape: cube}\ncontact: {friction: -1}\n");
+  const std::string mu = test::scene_world_error("mesh: {shape: cube}\ncontact: {friction: -1}\n");
   EXPECT_NE(mu.find("contact.friction"), std::string::npos) << mu;
   for (const std::string& e : {negative, eps, mu}) {
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
@@ -223,7 +215,7 @@ TEST(SceneFriction, PairsOfBodiesTakeTheirOwnCoefficientOrTheContactDefault) {
        {"contact.pairs[0]", "mu", "unknown key"}},
   };
   for (const auto& [yaml, fragments] : bad) {
-    const std::string e = error_of(two_cubes(yaml + "\n"));
+    const std::string e = test::scene_world_error(two_cubes(yaml + "\n"));
     for (const std::string& f : fragments) {
       EXPECT_NE(e.find(f), std::string::npos) << yaml << "\n -> " << e;
     }

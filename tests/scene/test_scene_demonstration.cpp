@@ -8,6 +8,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/scene/scene.hpp"
+#include "scene/scene_errors.hpp"
 
 namespace rbaa {
 namespace {
@@ -22,14 +23,6 @@ std::string two_cubes(const std::string& demo) {
          demo;
 }
 
-std::string error_of(const std::string& yaml) {
-  try {
-    parse_scene(yaml, "test.yaml", "");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(SceneDemonstration, NoBlockNoDemonstration) {
   const Scene s = parse_scene("mesh: {shape: sphere}\n", "test.yaml", "");
@@ -115,7 +108,7 @@ TEST(SceneDemonstration, BadInputIsOneLineNamingFileLineAndKey) {
       {"  {}\n", "give a predicate, a figure or both"},
   };
   for (const Case& c : cases) {
-    const std::string what = error_of(two_cubes(c.demo));
+    const std::string what = test::scene_parse_error(two_cubes(c.demo));
     EXPECT_NE(what.find(c.fragment), std::string::npos) << c.demo << " -> " << what;
     EXPECT_EQ(what.rfind("test.yaml:", 0), 0u) << what;
     EXPECT_EQ(what.find('\n'), std::string::npos) << what;

@@ -16,6 +16,7 @@
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/scene/simulate.hpp"
+#include "scene/scene_errors.hpp"
 
 namespace rbaa {
 namespace {
@@ -54,15 +55,6 @@ World world_of(const std::string& yaml) {
   return w;
 }
 
-std::string error_of(const std::string& yaml, const std::vector<std::string>& overrides = {}) {
-  try {
-    const Scene scene = parse_scene(yaml, "test.yaml", "", overrides);
-    make_world(scene, make_scene_mesh(scene));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // World y of the object's vertices (its own -z direction after the rotation).
 Eigen::VectorXd world_y(const SceneWorld& w) { return w.mesh.V.col(1); }
@@ -181,7 +173,7 @@ TEST(SceneDriven, BadInputIsAOneLineErrorNamingTheKeyAndTheValue) {
       {driven_cube("[1]"), "object.velocity", "driven body", {"object.velocity=[1, 0, 0]"}},
   };
   for (const Case& c : cases) {
-    const std::string m = error_of(c.yaml, c.overrides);
+    const std::string m = test::scene_world_error(c.yaml, c.overrides);
     EXPECT_NE(m.find("test.yaml"), std::string::npos) << c.key << ": " << m;
     EXPECT_NE(m.find("'" + c.key + "'"), std::string::npos) << c.key << ": " << m;
     EXPECT_NE(m.find(c.value), std::string::npos) << c.key << ": " << m;

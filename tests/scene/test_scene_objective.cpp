@@ -10,6 +10,7 @@
 #include "rbaa/error.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_fingerprint.hpp"
+#include "scene/scene_errors.hpp"
 
 namespace rbaa {
 namespace {
@@ -22,14 +23,6 @@ std::string two_balls(const std::string& extra = "") {
          extra;
 }
 
-std::string error_of(const std::string& yaml) {
-  try {
-    parse_scene(yaml, "test.yaml", "");
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(SceneObjective, DefaultsToTheUndirectedTermOfTheObject) {
   const Scene s = parse_scene(two_balls(), "test.yaml", "");
@@ -83,14 +76,14 @@ TEST(SceneObjective, BadInputIsOneLineNamingTheKeyAndValue) {
       {"attack: {body: ghost}\n", "attack.body", "'ghost' is not one of: object, target"},
   };
   for (const auto& c : cases) {
-    const std::string e = error_of(two_balls(c.extra));
+    const std::string e = test::scene_parse_error(two_balls(c.extra));
     EXPECT_NE(e.find("key '" + c.key + "'"), std::string::npos) << c.extra << " -> " << e;
     EXPECT_NE(e.find(c.says), std::string::npos) << c.extra << " -> " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
     EXPECT_EQ(e.rfind("test.yaml:", 0), 0u) << e;
   }
   // An attacked body with a materials file: its materials would be ignored, so it is refused.
-  const std::string m = error_of(
+  const std::string m = test::scene_parse_error(
       "mesh: {shape: sphere, radius: 0.05}\nbodies:\n  - {name: b, mesh: {shape: cube}, "
       "position: [1, 0, 0], materials: b.csv}\nattack: {body: b}\n");
   EXPECT_NE(m.find("key 'attack.body'"), std::string::npos) << m;

@@ -13,6 +13,9 @@ namespace rbaa {
 /// Shortest decimal text that parses back to exactly `x` ("0.1", "1e-300", "inf", "nan").
 std::string format_double(double x);
 
+/// `x` to `digits` significant digits, as printf's %.*g ("0.1235", "1.235e+05"), for reports.
+std::string format_significant(double x, int digits);
+
 /// Writes format_double(x) to `os` without going through the stream's precision or locale.
 void write_double(std::ostream& os, double x);
 
