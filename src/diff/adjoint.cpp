@@ -61,8 +61,6 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
   add_direct(g.rho, seed.direct.rho);
   add_direct(g.alpha, seed.direct.alpha);
 
-  const BdfIntegrator& bdf = sim.integrator();
-  const std::vector<double>& c = bdf.predictor_coefficients();
   IncrementalPotential& E = sim.potential();
 
   Eigen::VectorXd q_hat(ndof), lambda(ndof);
@@ -76,6 +74,10 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     if (qbar.isZero(0.0)) continue;  // nothing later depends on this step
     const Eigen::VectorXd& x = traj.q[k + 1];
     ++result.stats.solves;
+    // The step's own rule, predictor and weight (steps may differ in size).
+    const BdfPredictor P = traj.predictor(k);
+    const std::vector<double>& c = P.c;
+    sim.use_step(traj.rule(k), P.weight, traj.step_size(k));
     // The forms' lag of this step (lagged friction's Hessian and history terms need it).
     E.lag(traj.position(k), traj.position(k - 1));
 
@@ -119,6 +121,7 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
     result.stats.parameter_seconds += seconds_since(t_parameters);
   }
 
+  sim.set_next_step(sim.units_per_step());  // back to the scene's h
   // The ballistic history: q_{-j} = q_0 - j h v_0 + (j h)^2 / 2 g.
   result.dq0 = adj.at(0);
   result.dv0 = Eigen::VectorXd::Zero(ndof);
@@ -141,6 +144,9 @@ void check_linearisation_inputs(const Simulator& sim, const MaterialField& mater
   const int N = traj.num_steps();
   if (static_cast<int>(traj.q.size()) != N + 1 || traj.history.size() != 3) {
     throw InputError(who + ": the trajectory does not hold N + 1 positions and 3 history ones");
+  }
+  if (!traj.step_sizes.empty() && static_cast<int>(traj.step_sizes.size()) != N) {
+    throw InputError(who + ": the trajectory's step sizes do not match its steps");
   }
   if (traj.integrator != sim.settings().integrator || traj.time_step != sim.settings().time_step) {
     throw InputError(who + ": the trajectory was not produced with the simulator's integrator and h");

@@ -52,8 +52,6 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
   result.bounds.assign(nd, 0.0);
 
   // dq_k for k = -3 .. N, kept for the last (order + 1) positions only: dq[d][k + 3].
-  const BdfIntegrator& bdf = sim.integrator();
-  const std::vector<double>& c = bdf.predictor_coefficients();
   const double h = traj.time_step;
   std::vector<std::vector<Eigen::VectorXd>> dq(nd, std::vector<Eigen::VectorXd>(N + 4));
   for (std::size_t i = 0; i < nd; ++i) {
@@ -82,6 +80,10 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
   for (int k = 0; k < N; ++k) {
     ++result.stats.steps;
     const Eigen::VectorXd& x = traj.q[k + 1];
+    // The step's own rule, predictor and weight (steps may differ in size).
+    const BdfPredictor P = traj.predictor(k);
+    const std::vector<double>& c = P.c;
+    sim.use_step(traj.rule(k), P.weight, traj.step_size(k));
     IncrementalPotential& E = sim.potential();
     E.lag(traj.position(k), traj.position(k - 1));
     E.solution_changed(x);
@@ -116,6 +118,7 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
       if (drop >= 0) dq[i][drop] = Eigen::VectorXd();
     }
   }
+  sim.set_next_step(sim.units_per_step());  // back to the scene's h
   for (std::size_t i = 0; i < nd; ++i) result.final_dq.push_back(dq[i][N + 3]);
   result.stats.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

@@ -62,7 +62,7 @@ RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run
     return Eigen::VectorXd(x.segment(3 * b.vertex_begin, 3 * b.num_vertices()));
   };
   const Trajectory& traj = run.trajectory;
-  for (int k = 0; k < static_cast<int>(traj.q.size()); ++k) {
+  for (int k : traj.grid_frames()) {  // step by step with the rigid twin
     t.time.push_back(traj.time(k));
     t.position.push_back(centre_of_mass(part(traj.q[k]), m));
     t.velocity.push_back(centre_of_mass(part(traj.velocity(k)), m));
@@ -92,7 +92,7 @@ std::vector<BodyPath> paths_from_deformable(const Scene& scene, const Simulation
       return Eigen::VectorXd(x.segment(3 * begin, 3 * count));
     };
     const Eigen::VectorXd rest = part(traj.q[0]);
-    for (int k = 0; k < static_cast<int>(traj.q.size()); ++k) {
+    for (int k : traj.grid_frames()) {
       const Eigen::VectorXd x = part(traj.q[k]);
       p.time.push_back(traj.time(k));
       p.centre.push_back(centre_of_mass(x, m));

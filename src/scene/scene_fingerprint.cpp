@@ -117,6 +117,7 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "time.duration " << number(s.duration) << "\n";
   t << "time.integrator " << (s.integrator == Integrator::kBdf1 ? "bdf1" : "bdf2") << "\n";
   t << "time.mass " << (s.mass == MassModel::kLumped ? "lumped" : "consistent") << "\n";
+  if (s.contact_substeps > 0) t << "time.contact_substeps " << s.contact_substeps << "\n";
   t << "contact.d_hat " << number(s.d_hat) << "\n";
   t << "contact.kappa " << number(s.kappa) << "\n";
   t << "newton.tolerance " << number(s.newton_tolerance) << "\n";

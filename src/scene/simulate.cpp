@@ -37,7 +37,10 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
   Simulator& sim = simulator;
   const Eigen::VectorXd& masses = sim.vertex_masses();
   const ContactSet& set = sim.contact_form().contact_set();
-  std::vector<StepObservables> out(trajectory.q.size());
+  // On the grid of h only (contact-resolving sub-steps left out): the rigid twin and the bounce
+  // detection compare runs step by step.
+  const std::vector<int> frames = trajectory.grid_frames();
+  std::vector<StepObservables> out(frames.size());
   std::vector<Body> bodies = sim.settings().bodies;
   if (bodies.empty()) {
     Body whole;
@@ -46,11 +49,12 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
     bodies.push_back(whole);
   }
   const Body& object = bodies.front();
-  for (int k = 0; k < static_cast<int>(trajectory.q.size()); ++k) {
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const int k = frames[i];
     const Eigen::VectorXd& q = trajectory.q[k];
     const Eigen::VectorXd v = trajectory.velocity(k);
     const Eigen::VectorXd Mv = sim.inertia_form().multiply(v);
-    StepObservables& o = out[k];
+    StepObservables& o = out[i];
     o.time = trajectory.time(k);
     // The object's motion (the first body's), the whole system's momenta.
     const auto m = masses.segment(object.vertex_begin, object.num_vertices());
@@ -91,6 +95,27 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
   }
   return out;
 }
+
+namespace {
+
+// report.json's `contact_resolving`: steps taken, sub-steps per contact, what refinement cost.
+nlohmann::json contact_resolving_json(const Trajectory& t) {
+  const ContactResolvingStats& c = t.resolving;
+  int substeps = 0;
+  for (double h : t.step_sizes) substeps += h < t.time_step;
+  return {{"substeps", c.substeps},
+          {"steps_taken", t.num_steps()},
+          {"steps_of_h", static_cast<int>(t.grid.size()) - 1},
+          {"sub_steps", substeps},
+          {"contacts", c.contacts},
+          {"sub_steps_per_contact", c.contacts ? double(substeps) / c.contacts : 0.0},
+          {"predicted_halvings", c.predicted_halvings},
+          {"rejected_steps", c.rejected_steps},
+          {"rejected_newton_iterations", c.rejected_newton_iterations},
+          {"rejected_s", c.rejected_seconds}};
+}
+
+}  // namespace
 
 SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
                              const MaterialField& materials, const SimulationOptions& options) {
@@ -149,13 +174,17 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
   for (int b = 0; b < further; ++b) {
     for (const char* axis : {"_com_x", "_com_y", "_com_z"}) header.push_back(scene.bodies[b].name + axis);
   }
-  Eigen::MatrixXd rows(n, header.size());
-  for (int k = 0; k < n; ++k) {
+  // One row per step of h (the observables' grid); a sub-stepped step's Newton iterations summed.
+  const std::vector<int> grid = t.grid_frames();
+  const int rows_n = static_cast<int>(run.observables.size());
+  Eigen::MatrixXd rows(rows_n, header.size());
+  for (int k = 0; k < rows_n; ++k) {
     const StepObservables& o = run.observables[k];
+    int iterations = 0;
+    for (int j = k == 0 ? 0 : grid[k - 1]; k > 0 && j < grid[k]; ++j) iterations += t.steps[j].newton_iterations;
     rows.row(k).head(17) << k, o.time, o.centre_of_mass.transpose(), o.linear_momentum.transpose(),
         o.angular_momentum.transpose(), o.orientation.w(), o.orientation.x(), o.orientation.y(),
-        o.orientation.z(), std::isfinite(o.min_distance) ? o.min_distance : -1.0,
-        k == 0 ? 0 : t.steps[k - 1].newton_iterations;
+        o.orientation.z(), std::isfinite(o.min_distance) ? o.min_distance : -1.0, iterations;
     for (int b = 0; b < further; ++b) rows.row(k).segment<3>(17 + 3 * b) = o.body_centres[b].transpose();
   }
   write_csv((fs::path(dir) / "trajectory.csv").string(), header, rows);
@@ -195,6 +224,7 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
   r["time_step"] = t.time_step;
   r["duration"] = t.time(t.num_steps());
   r["integrator"] = integrator_name(run.settings.integrator);
+  if (t.resolving.substeps > 0) r["contact_resolving"] = contact_resolving_json(t);
   r["mass"] = mass_name(run.settings.mass);
   r["kappa"] = run.settings.kappa;
   r["kappa_source"] = run.kappa_from_rule ? "energy rule (SPEC 2)" : "config";
@@ -235,7 +265,7 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
         {"planes", b.planes},
         {"first_step", b.first_step},
         {"last_step", b.last_step},
-        {"time", t.time(b.first_step)},
+        {"time", run.observables.at(b.first_step).time},
         {"normal_velocity_in", b.normal_velocity_in},
         {"normal_velocity_out", b.normal_velocity_out},
         {"restitution",

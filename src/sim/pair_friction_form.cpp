@@ -96,10 +96,8 @@ PairFrictionForm::PairFrictionForm(const MeshObstacleForm* obstacles, std::vecto
     throw InputError("friction: one coefficient per obstacle mesh is needed");
   }
   if (!(eps_v > 0 && std::isfinite(eps_v))) throw InputError("friction: eps_v must be positive");
-  const bool bdf2 = integrator == Integrator::kBdf2;
-  a0_ = bdf2 ? 4.0 / 3.0 : 1.0;
-  a1_ = bdf2 ? -1.0 / 3.0 : 0.0;
-  eps_ = eps_v * (bdf2 ? 2.0 * time_step / 3.0 : time_step);
+  eps_v_ = eps_v;
+  set_step_rule(bdf_step_rule(integrator, time_step, time_step));
 }
 
 void PairFrictionForm::add_pair(LaggedFrictionPair p, const contact::Barrier& barrier, double kappa,

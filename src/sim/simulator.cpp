@@ -33,6 +33,12 @@ const SimulationSettings& validated(const SimulationSettings& s) {
   if (!(s.exact_hessian_factor > 0)) throw InputError("simulation: the exact-Hessian switch factor must be > 0");
   if (s.num_steps < 0) throw InputError("simulation: negative number of steps");
   if (s.newton_max_iterations < 1) throw InputError("simulation: Newton needs at least 1 iteration");
+  if (s.contact_substeps != 0 &&
+      (s.contact_substeps < 2 || s.contact_substeps > 1024 ||
+       (s.contact_substeps & (s.contact_substeps - 1)) != 0)) {
+    throw InputError("simulation: contact sub-steps " + std::to_string(s.contact_substeps) +
+                     " is not 0 (off) or a power of two from 2 to 1024");
+  }
   if (!s.gravity.allFinite()) throw InputError("simulation: gravity is not finite");
   if (!std::isfinite(s.kappa) || s.kappa < 0) {
     throw InputError("simulation: the barrier stiffness kappa must be finite and >= 0");
@@ -131,7 +137,9 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
       integrator_(settings.integrator, settings.time_step),
       newton_(newton_settings(settings, rest)),
       driven_dofs_(rbaa::driven_dofs(settings.bodies)),
-      free_bodies_(free_bodies(settings.bodies)) {
+      free_bodies_(free_bodies(settings.bodies)),
+      units_per_step_(std::max(1, settings.contact_substeps)),
+      next_units_(units_per_step_) {
   validate_material_field(materials, rest.num_tets(), materials_source);
   surface_vertices_ = boundary_vertices(rest_);
   hessian_ = std::make_unique<SparseHessian>(rest_.T, rest_.num_vertices());
@@ -194,13 +202,39 @@ void Simulator::build_mass_forms(const MaterialField& materials) {
   potential_ = std::make_unique<IncrementalPotential>(*hessian_);
   potential_->set_fixed_dofs(driven_dofs_);
   potential_->add(*inertia_, 1.0);
-  potential_->add(*elastic_, w);
-  if (settings_.gravity.squaredNorm() > 0) potential_->add(*gravity_, w);
-  if (!settings_.planes.empty()) potential_->add(*contact_, w);
-  if (mesh_contact_) potential_->add(*mesh_contact_, w);
-  if (plane_friction_) potential_->add(*plane_friction_, w);
-  if (pair_friction_) potential_->add(*pair_friction_, w);
-  if (body_contact_) potential_->add(*body_contact_, w);
+  weighted_forms_ = {elastic_.get()};
+  if (settings_.gravity.squaredNorm() > 0) weighted_forms_.push_back(gravity_.get());
+  if (!settings_.planes.empty()) weighted_forms_.push_back(contact_.get());
+  if (mesh_contact_) weighted_forms_.push_back(mesh_contact_.get());
+  if (plane_friction_) weighted_forms_.push_back(plane_friction_.get());
+  if (pair_friction_) weighted_forms_.push_back(pair_friction_.get());
+  if (body_contact_) weighted_forms_.push_back(body_contact_.get());
+  for (Form* f : weighted_forms_) potential_->add(*f, w);
+}
+
+void Simulator::use_step(const BdfStepRule& rule, double weight, double h) {
+  for (Form* f : weighted_forms_) potential_->set_weight(*f, weight);
+  if (plane_friction_) plane_friction_->set_step_rule(rule);
+  if (pair_friction_) pair_friction_->set_step_rule(rule);
+  newton_.set_time_step(h);
+}
+
+void Simulator::set_next_step(int units) {
+  if (units < 1 || units > units_per_step_) {
+    throw InputError("simulation: a step of " + std::to_string(units) + " units of h/" +
+                     std::to_string(units_per_step_) + " is not between one unit and h");
+  }
+  next_units_ = units;
+  const double h = units == units_per_step_ ? settings_.time_step
+                                            : units * settings_.time_step / units_per_step_;
+  integrator_.set_next_step(h);
+  use_step(integrator_.next_rule(), integrator_.potential_weight(), h);
+}
+
+double Simulator::time_at(long units) const {
+  // Constant steps keep n h exactly as before sub-steps existed.
+  return units_per_step_ == 1 ? units * settings_.time_step
+                              : units * settings_.time_step / units_per_step_;
 }
 
 void Simulator::set_materials(const MaterialField& materials, const std::string& source) {
@@ -262,6 +296,8 @@ void Simulator::reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) {
     integrator_.set_past(k, past);
   }
   step_ = 0;
+  units_ = 0;
+  set_next_step(units_per_step_);
 }
 
 void Simulator::set_driven_positions(Eigen::VectorXd& q, double t, bool whole_bodies) const {
@@ -320,7 +356,7 @@ StepStats Simulator::advance() {
   const Eigen::VectorXd q_hat = integrator_.predictor();
   inertia_->set_predictor(q_hat);
   potential_->lag(q_n, integrator_.past(1));
-  const double t0 = step_ * settings_.time_step, t1 = (step_ + 1) * settings_.time_step;
+  const double t0 = time(), t1 = time_at(units_ + next_units_);
   std::ostringstream context;
   context << "step " << step_ + 1 << " (t = " << t1 << " s)";
 
@@ -362,6 +398,7 @@ StepStats Simulator::advance() {
   }
   const NewtonResult r = newton_.minimize(*potential_, x, context.str());
   integrator_.push(x);
+  units_ += next_units_;
   ++step_;
 
   StepStats s;
@@ -380,15 +417,9 @@ StepStats Simulator::advance() {
   s.solve_seconds = r.solve_seconds;
   s.line_search_seconds = r.line_search_seconds;
   s.min_distance = contact_->min_distance(x);
-  s.active_pairs = contact_->num_active_pairs(x);
-  if (mesh_contact_) {
-    s.min_distance = std::min(s.min_distance, mesh_contact_->min_distance(x));
-    s.active_pairs += mesh_contact_->num_active_pairs(x);
-  }
-  if (body_contact_) {
-    s.min_distance = std::min(s.min_distance, body_contact_->min_distance(x));
-    s.active_pairs += body_contact_->num_active_pairs(x);
-  }
+  if (mesh_contact_) s.min_distance = std::min(s.min_distance, mesh_contact_->min_distance(x));
+  if (body_contact_) s.min_distance = std::min(s.min_distance, body_contact_->min_distance(x));
+  s.active_pairs = active_pairs(x);
   if (!driven_dofs_.empty()) {
     // The step equation's residual at the driven dofs: w times the force the drives exert.
     const Eigen::VectorXd G = potential_->unconstrained_gradient(x);
@@ -408,6 +439,10 @@ Trajectory Simulator::run(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
   for (int k = 1; k <= 3; ++k) t.history.push_back(integrator_.past(k));
   t.q.reserve(settings_.num_steps + 1);
   t.q.push_back(q0);
+  if (settings_.contact_substeps > 0) {
+    run_resolving(t, callback);
+    return t;
+  }
   for (int k = 0; k < settings_.num_steps; ++k) {
     const StepStats s = advance();
     t.q.push_back(integrator_.current());
@@ -415,6 +450,75 @@ Trajectory Simulator::run(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
     if (callback) callback(step_, integrator_.current(), s);
   }
   return t;
+}
+
+int Simulator::active_pairs(const Eigen::VectorXd& x) const {
+  int n = contact_->num_active_pairs(x);
+  if (mesh_contact_) n += mesh_contact_->num_active_pairs(x);
+  if (body_contact_) n += body_contact_->num_active_pairs(x);
+  return n;
+}
+
+bool Simulator::prediction_in_contact() const {
+  // The ballistic guess q_hat + w g of advance(): if flying there meets an obstacle or ends
+  // within d_hat, the step will very likely end in contact.
+  const Eigen::VectorXd& q_n = integrator_.current();
+  Eigen::VectorXd guess = integrator_.predictor();
+  const double w = integrator_.potential_weight();
+  for (int v = 0; v < rest_.num_vertices(); ++v) guess.segment<3>(3 * v) += w * settings_.gravity;
+  if (!driven_dofs_.empty()) set_driven_positions(guess, time_at(units_ + next_units_));
+  return potential_->max_step_size(q_n, guess) < 1.0 || active_pairs(guess) > 0;
+}
+
+void Simulator::run_resolving(Trajectory& t, const StepCallback& callback) {
+  // Dyadic steps: sizes of 2^j units of h/k, each starting at a multiple of itself, so every step
+  // of h is covered exactly and any step ends on the grid when it is a whole h. A step whose
+  // ballistic guess meets contact is halved before it is taken, and one that ends in contact is
+  // taken again at half its size, until it is one unit; out of contact the size doubles (ratio
+  // 2) whenever the time is a multiple of the doubled size.
+  const int k = units_per_step_;
+  ContactResolvingStats& r = t.resolving;
+  r.substeps = k;
+  t.times.push_back(time());
+  t.grid.push_back(0);
+  const long end = static_cast<long>(settings_.num_steps) * k;
+  int size = k;
+  bool was_in_contact = false;
+  while (units_ < end) {
+    const BdfIntegrator saved = integrator_;
+    const long saved_units = units_;
+    const int saved_step = step_;
+    set_next_step(size);
+    if (size > 1 && prediction_in_contact()) {
+      // Halved before any Newton iteration is spent on it.
+      ++r.predicted_halvings;
+      size /= 2;
+      continue;
+    }
+    const double h = integrator_.next_step();
+    const StepStats s = advance();
+    const bool in_contact = s.active_pairs > 0;
+    if (in_contact && size > 1) {
+      integrator_ = saved;
+      units_ = saved_units;
+      step_ = saved_step;
+      ++r.rejected_steps;
+      r.rejected_newton_iterations += s.newton_iterations;
+      r.rejected_seconds += s.seconds;
+      size /= 2;
+      continue;
+    }
+    t.q.push_back(integrator_.current());
+    t.steps.push_back(s);
+    t.step_sizes.push_back(h);
+    t.times.push_back(time());
+    if (units_ % k == 0) t.grid.push_back(t.num_steps());
+    if (size < k) ++r.refined_steps;
+    if (in_contact && !was_in_contact) ++r.contacts;
+    was_in_contact = in_contact;
+    if (callback) callback(step_, integrator_.current(), s);
+    if (!in_contact && size < k && units_ % (2 * size) == 0) size *= 2;
+  }
 }
 
 }  // namespace rbaa

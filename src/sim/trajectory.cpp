@@ -2,13 +2,24 @@
 
 namespace rbaa {
 
+std::vector<int> Trajectory::grid_frames() const {
+  if (!grid.empty()) return grid;
+  std::vector<int> all(q.size());
+  for (std::size_t k = 0; k < q.size(); ++k) all[k] = static_cast<int>(k);
+  return all;
+}
+
+BdfStepRule Trajectory::rule(int k) const {
+  return bdf_step_rule(integrator, step_size(k), step_size(k - 1));
+}
+
+BdfPredictor Trajectory::predictor(int k) const {
+  return bdf_predictor(integrator, rule(k), rule(k - 1), rule(k - 2), step_size(k));
+}
+
 Eigen::VectorXd Trajectory::velocity(int k) const {
-  if (integrator == Integrator::kBdf2) {
-    // 3 q_k - 4 q_{k-1} + q_{k-2} in differences (rounding relative to the motion, not to |q|)
-    return (3.0 * (position(k) - position(k - 1)) - (position(k - 1) - position(k - 2))) /
-           (2.0 * time_step);
-  }
-  return (position(k) - position(k - 1)) / time_step;
+  return bdf_velocity(integrator, rule(k - 1), step_size(k - 1), position(k), position(k - 1),
+                      position(k - 2));
 }
 
 }  // namespace rbaa

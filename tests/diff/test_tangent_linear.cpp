@@ -34,10 +34,10 @@ struct ConfigProblem {
   std::shared_ptr<UndirectedTrajectoryObjective> objective;
 };
 
-ConfigProblem config_problem(const std::string& name) {
+ConfigProblem config_problem(const std::string& name, std::vector<std::string> overrides = {}) {
   ConfigProblem p;
-  p.scene = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/" + name + ".yaml",
-                       {"mesh.target_tets=300"});
+  overrides.insert(overrides.begin(), "mesh.target_tets=300");
+  p.scene = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/" + name + ".yaml", overrides);
   p.mesh = make_scene_mesh(p.scene);
   p.settings = simulation_settings(p.scene, scene_barrier_stiffness(p.scene, p.mesh));
   p.q0 = Eigen::Map<const Eigen::VectorXd>(p.mesh.V.data(), 3 * p.mesh.num_vertices());
@@ -62,8 +62,9 @@ GradientCheckResult tangent_check(TrajectoryGradientFunction& f, const Eigen::Ve
 
 // strict: the error itself within 1e-10; otherwise within the bar or 4x the tangent's own
 // measured round-off (the cube: 150 stiff steps, its Y and nu move the objective by 1e-13).
-void expect_config_fields(const std::string& name, bool strict = true) {
-  const ConfigProblem p = config_problem(name);
+void expect_config_fields(const std::string& name, bool strict = true,
+                          const std::vector<std::string>& overrides = {}) {
+  const ConfigProblem p = config_problem(name, overrides);
   for (DesignField field : {DesignField::kY, DesignField::kNu, DesignField::kRho, DesignField::kAlpha}) {
     DesignSpaceOptions options = design_space_options(p.scene);
     options.fields = {field};
@@ -88,6 +89,10 @@ void expect_config_fields(const std::string& name, bool strict = true) {
 }
 
 TEST(TangentLinear, BallConfigEveryField) { expect_config_fields("ball"); }
+// Contact-resolving steps (variable-step BDF-2 around the impact): the same bar.
+TEST(TangentLinear, BallConfigWithContactSubStepsEveryField) {
+  expect_config_fields("ball", true, {"time.contact_substeps=8"});
+}
 TEST(TangentLinear, StarConfigEveryField) { expect_config_fields("star"); }
 TEST(TangentLinear, BunnyConfigEveryField) { expect_config_fields("bunny"); }
 TEST(TangentLinear, CubeConfigEveryField) { expect_config_fields("cube", false); }

@@ -178,6 +178,9 @@ struct Scene {
   double duration = 0.25;   ///< T (s)
   Integrator integrator = Integrator::kBdf2;
   MassModel mass = MassModel::kConsistent;
+  /// Contact-resolving steps (SimulationSettings::contact_substeps): 0 off, else k sub-steps of
+  /// h/k around contact.
+  int contact_substeps = 0;
 
   // The demonstration (`rbaa evaluate`): its own step and duration, because an attack is built at
   // a step chosen for speed while a demonstration must be accurate enough that the stiff uniform

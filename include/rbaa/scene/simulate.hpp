@@ -28,7 +28,8 @@ struct SimulationOptions {
   NewtonSolver::IterationCallback on_newton_iteration;
 };
 
-/// Per-position observables (index k = position q_k, k = 0 .. N): the object's motion (the first
+/// Per-position observables (index k = position q_k, k = 0 .. N, on the grid of h: sub-steps of
+/// contact-resolving steps are left out): the object's motion (the first
 /// body's), the whole system's momenta and contact distances.
 struct StepObservables {
   double time = 0;
@@ -62,7 +63,7 @@ struct SimulationRun {
 SimulationRun run_simulation(const Scene& scene, const TetMesh& placed_mesh,
                              const MaterialField& materials, const SimulationOptions& options = {});
 
-/// Observables of every position of a trajectory.
+/// Observables of every position of a trajectory on the grid of h (Trajectory::grid_frames).
 std::vector<StepObservables> compute_observables(Simulator& simulator,
                                                  const Trajectory& trajectory);
 

@@ -97,6 +97,8 @@ class NewtonSolver {
   const LinearSolver& linear_solver() const { return solver_; }
   LinearSolver& linear_solver() { return solver_; }
   const NewtonSettings& settings() const { return settings_; }
+  /// The step the tolerance's velocity is measured over (steps of varying size).
+  void set_time_step(double h) { settings_.time_step = h; }
   /// Optional map applied to every Newton step before the line search, dq <- f(x, dq). The
   /// simulator uses it to apply the step's rigid rotation as a finite rotation (see
   /// rigid_rotation_correction.hpp). Used only when the result is still a descent direction.

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "rbaa/contact/fixed_size.hpp"
+#include "rbaa/sim/bdf.hpp"
 #include "rbaa/sim/body_contact_form.hpp"
 #include "rbaa/sim/contact_pair.hpp"
 #include "rbaa/sim/form.hpp"
@@ -90,6 +91,13 @@ class PairFrictionForm : public Form {
   int num_lagged_pairs() const { return static_cast<int>(pairs_.size()); }
   const std::vector<LaggedFrictionPair>& lagged_pairs() const { return pairs_; }
   double eps() const { return eps_; }
+  /// The rule of the next step (bdf.hpp): x~ = a0 q_n + a1 q_{n-1}, eps = eps_v b. Steps of
+  /// another size than the scene's (contact-resolving steps) set it before lag().
+  void set_step_rule(const BdfStepRule& rule) {
+    a0_ = rule.a0;
+    a1_ = rule.a1;
+    eps_ = eps_v_ * rule.b;
+  }
 
  private:
   struct Slip {
@@ -111,6 +119,7 @@ class PairFrictionForm : public Form {
   std::vector<double> mesh_mu_;
   const BodyContactForm* bodies_;
   Eigen::MatrixXd body_mu_;
+  double eps_v_;
   double eps_;
   double a0_, a1_;  // x~ = a0 q_n + a1 q_{n-1}
   std::vector<LaggedFrictionPair> pairs_;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "rbaa/contact/barrier.hpp"
+#include "rbaa/sim/bdf.hpp"
 #include "rbaa/sim/form.hpp"
 #include "rbaa/sim/world.hpp"
 
@@ -63,6 +64,13 @@ class PlaneFrictionForm : public Form {
 
   int num_lagged_pairs() const { return static_cast<int>(pairs_.size()); }
   double eps() const { return eps_; }
+  /// The rule of the next step (bdf.hpp): x~ = a0 q_n + a1 q_{n-1}, eps = eps_v b. Steps of
+  /// another size than the scene's (contact-resolving steps) set it before lag().
+  void set_step_rule(const BdfStepRule& rule) {
+    a0_ = rule.a0;
+    a1_ = rule.a1;
+    eps_ = eps_v_ * rule.b;
+  }
 
  private:
   struct Pair {
@@ -86,6 +94,7 @@ class PlaneFrictionForm : public Form {
   std::vector<double> mu_;
   contact::Barrier barrier_;
   double kappa_;
+  double eps_v_;
   double eps_;
   double a0_, a1_;  // x~ = a0 q_n + a1 q_{n-1}
   std::vector<Pair> pairs_;

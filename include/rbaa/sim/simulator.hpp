@@ -67,6 +67,15 @@ struct SimulationSettings {
   /// lower in energy, and try a rigid-motion Newton sub-step before each factorisation
   /// (rigid_rotation_correction.hpp). Off: the ballistic guess and plain Newton (for comparison).
   bool rigid_predictor = true;
+  /// Contact-resolving steps: 0 keeps every step h. k >= 2 (a power of two) lets steps shrink
+  /// to h/k around contact (variable-step BDF, bdf.hpp): a step that ends with a contact pair
+  /// closer than d_hat (or whose ballistic guess comes that close: halved before Newton) is
+  /// taken again at half its size, down to h/k; out of contact the size
+  /// doubles back towards h (step ratios <= 2), each step starting at a multiple of its size so
+  /// that the steps tile every step of h. The run records each step's size
+  /// (Trajectory::step_sizes) and what the refinement cost (Trajectory::resolving). A body
+  /// resting on something stays at h/k.
+  int contact_substeps = 0;
 };
 
 class Simulator {
@@ -85,13 +94,24 @@ class Simulator {
   /// (rigid) past, and its driven vertices then follow the drive from their positions in q0.
   /// Throws rbaa::InputError if a surface vertex starts on or beyond a plane.
   void reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0);
-  /// One time step; throws rbaa::SolverError naming the step when Newton fails. With driven
+  /// One time step of the integrator's next size (the scene's h unless set_next_step); throws rbaa::SolverError naming the step when Newton fails. With driven
   /// vertices the step first moves them alone from q_n to their prescribed positions at t_{n+1}
   /// (rbaa::InputError naming the step and the body if that move is not admissible: it crosses,
   /// touches or closes to within 1e-3 of a gap to an obstacle or another body), then minimises
   /// over the other dofs with them fixed.
   StepStats advance();
-  /// reset + settings.num_steps advances, recording everything.
+  /// The size of the next step(s), in units of h / max(1, contact_substeps): 1 ..
+  /// max(1, contact_substeps) of them (the weights, friction's rule and Newton's tolerance follow).
+  void set_next_step(int units);
+  /// Sets the potentials' weight, friction's rule and Newton's step to those of a step of size h
+  /// with `rule` (the adjoint and the tangent replay recorded steps with it).
+  void use_step(const BdfStepRule& rule, double weight, double h);
+  /// Units of the scene's h (max(1, contact_substeps)).
+  int units_per_step() const { return units_per_step_; }
+  /// The simulated time of q_n.
+  double time() const { return time_at(units_); }
+  /// reset + settings.num_steps steps of h (with contact_substeps, each may be sub-stepped),
+  /// recording everything.
   Trajectory run(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0,
                  const StepCallback& callback = {});
 
@@ -159,7 +179,20 @@ class Simulator {
   std::vector<int> driven_dofs_;
   std::vector<Body> free_bodies_;  // settings_.bodies without the driven ones
   Eigen::VectorXd driven_origin_;  // q0 of the last reset: where the drives start from
+  double time_at(long units) const;
+  // Contact pairs closer than d_hat at x (planes, obstacle meshes, other bodies).
+  int active_pairs(const Eigen::VectorXd& x) const;
+  // Whether the next step's ballistic guess crosses into or ends within d_hat of contact.
+  bool prediction_in_contact() const;
+  // Runs settings_.num_steps steps of h with contact-resolving sub-steps, recording into t.
+  void run_resolving(Trajectory& t, const StepCallback& callback);
+
   int step_ = 0;
+  // Time in units of h / units_per_step_ (exact on the grid of h and of its sub-steps).
+  long units_ = 0;
+  int units_per_step_ = 1;
+  int next_units_ = 1;
+  std::vector<Form*> weighted_forms_;  // the forms weighted by the step's w
 };
 
 }  // namespace rbaa

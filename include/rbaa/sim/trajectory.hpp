@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "rbaa/sim/bdf.hpp"
 #include "rbaa/sim/world.hpp"
 
 namespace rbaa {
@@ -34,20 +35,49 @@ struct StepStats {
          solve_seconds = 0, line_search_seconds = 0;
 };
 
+/// What contact-resolving steps did in a run (SimulationSettings::contact_substeps).
+struct ContactResolvingStats {
+  int substeps = 0;           ///< k: the finest step is h/k (0: constant steps)
+  int refined_steps = 0;      ///< steps taken shorter than h
+  int contacts = 0;           ///< contact episodes (a step in contact after one that was not)
+  int predicted_halvings = 0;  ///< steps halved before Newton: their ballistic guess met contact
+  int rejected_steps = 0;     ///< steps tried, found in contact and taken again at half the size
+  int rejected_newton_iterations = 0;
+  double rejected_seconds = 0;
+};
+
 struct Trajectory {
-  double time_step = 0;
+  double time_step = 0;       ///< the scene's h
   Integrator integrator = Integrator::kBdf2;
   double kappa = 0;
   std::vector<Eigen::VectorXd> history;  ///< q_{-1}, q_{-2}, q_{-3}: the ballistic past
   std::vector<Eigen::VectorXd> q;        ///< q[0] (initial) .. q[N]
   std::vector<StepStats> steps;          ///< steps[k] produced q[k + 1]
+  /// Steps of varying size (contact-resolving steps): step_sizes[k] of steps[k] and times[k] of
+  /// q[k]. Empty: every step is time_step long.
+  std::vector<double> step_sizes;
+  std::vector<double> times;
+  /// With step_sizes: the indices k of the q[k] on the grid of time_step (q[0] and the end of
+  /// every step of h, sub-stepped or not).
+  std::vector<int> grid;
+  ContactResolvingStats resolving;
 
   int num_steps() const { return static_cast<int>(steps.size()); }
-  double time(int k) const { return k * time_step; }
+  double time(int k) const { return times.empty() ? k * time_step : times[k]; }
+  /// The size of step k (which produced q_{k+1}); the ballistic past (k < 0) is time_step apart.
+  double step_size(int k) const {
+    return k < 0 || step_sizes.empty() ? time_step : step_sizes[k];
+  }
+  /// The indices of the positions at 0, h, 2h, ... (all of them with constant steps): what a
+  /// consumer comparing runs step by step (the rigid twin, bounce detection) reads.
+  std::vector<int> grid_frames() const;
+  /// The BDF rule of step k (bdf.hpp), and its predictor and the potentials' weight.
+  BdfStepRule rule(int k) const;
+  BdfPredictor predictor(int k) const;
   /// q_k for k >= -3 (negative k: the history).
   const Eigen::VectorXd& position(int k) const { return k >= 0 ? q[k] : history[-k - 1]; }
-  /// The integrator's velocity at step k (BDF-2: (3 q_k - 4 q_{k-1} + q_{k-2}) / 2h;
-  /// BDF-1: (q_k - q_{k-1}) / h).
+  /// The integrator's velocity at step k by the rule of the step that produced q_k (constant
+  /// steps: BDF-2 (3 q_k - 4 q_{k-1} + q_{k-2}) / 2h; BDF-1 (q_k - q_{k-1}) / h).
   Eigen::VectorXd velocity(int k) const;
 };
 
