@@ -418,10 +418,8 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   }
   stage("post-processing: rounding, connectivity, density re-fit");
   try {
-    // The drive holds the attacked body by its driven vertices: they stay in the object.
-    std::vector<int> driven;
-    for (int v : problem.body().driven_vertices) driven.push_back(v - problem.body().vertex_begin);
-    r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold, driven);
+    // The design holds the driven vertices' elements solid: they stay in the object.
+    r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold);
   } catch (const SolverError& e) {
     if (continuous_path.empty()) throw;
     throw SolverError(std::string(e.what()) + "; the optimised continuous design is kept in " + continuous_path);
