@@ -2,7 +2,6 @@
 
 #include <gflags/gflags.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +14,7 @@
 #include "rbaa/cli/verb.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/opt/attack.hpp"
+#include "rbaa/opt/iteration_eta.hpp"
 #include "rbaa/scene/scene_fingerprint.hpp"
 
 DEFINE_int32(iterations, -1, "Adam iterations (-1: the config's attack.iterations); a resumed run may extend it");
@@ -51,16 +51,17 @@ int run_attack_verb() {
     if (ec || !std::ofstream(probe)) throw rbaa::InputError(FLAGS_out + ": output folder is not writable");
     std::filesystem::remove(probe);
   }
-  const auto start = std::chrono::steady_clock::now();
-  int done_this_run = 0;
+  // The iterations' own times: the work before the loop (the best uniform start's runs) is not
+  // iteration time.
+  rbaa::IterationEta eta;
   options.on_stage = [](const std::string& s) { std::cerr << "rbaa attack: " << s << std::endl; };
   options.on_iteration = [&](const rbaa::ProgressRow& row, int total) {
-    ++done_this_run;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const double eta = elapsed / done_this_run * (total - row.iteration - 1);
-    std::fprintf(stderr, "iter %4d/%d  objective %+.6e  gap %.4e m  com gap %.4e m  moment residual %.2e  %6.2f s/iter  ETA %s\n",
-                 row.iteration + 1, total, row.objective, row.gap, row.com_gap, row.max_moment_residual,
-                 row.seconds, duration_text(eta).c_str());
+    eta.add(row, total);
+    std::fprintf(stderr,
+                 "iter %4d/%d  objective %+.6e  gap %.4e m  com gap %.4e m  moment residual %.2e  "
+                 "%6.2f s/iter  ETA %s\n",
+                 row.iteration + 1, total, row.objective, row.gap, row.com_gap,
+                 row.max_moment_residual, row.seconds, duration_text(eta.seconds_left()).c_str());
   };
   const rbaa::AttackResult result = rbaa::run_attack(scene, options);
   rbaa::write_attack_outputs(result, scene, FLAGS_out);

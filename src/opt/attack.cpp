@@ -261,16 +261,13 @@ void refinement_check(AttackResult& r, const AttackProblem& problem,
   stage(what.str());
   const auto start = std::chrono::steady_clock::now();
   try {
+    const ReferenceRun run = problem.run_reference(refined_settings(problem.settings, c.factor));
     RefinedReference ref;
     ref.factor = c.factor;
-    Simulator sim(problem.world.mesh, problem.reference_materials,
-                  refined_settings(problem.settings, c.factor));
-    ref.final_positions = sim.run(problem.q0, problem.v0).q.back();
-    const Eigen::VectorXd density = problem.reference_materials.effective_density();
-    ref.com = body_centre_of_mass(ref.final_positions, problem.world.mesh, density, problem.body());
+    ref.final_positions = run.trajectory.q.back();
+    ref.com = run.com;
     c.reference_com_shift = (ref.com - problem.reference_com).norm();
-    c.scored_com_reference = body_centre_of_mass(ref.final_positions, problem.world.mesh, density,
-                                                 problem.world.bodies[problem.scored]);
+    c.scored_com_reference = run.scored_com;
     const FinalGap g = measure_solid(problem, reference_element_masses, r.post.solid, &ref);
     c.gap = g.gap;
     c.com_gap = g.com_gap;
@@ -418,10 +415,8 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   }
   stage("post-processing: rounding, connectivity, density re-fit");
   try {
-    // The drive holds the attacked body by its driven vertices: they stay in the object.
-    std::vector<int> driven;
-    for (int v : problem.body().driven_vertices) driven.push_back(v - problem.body().vertex_begin);
-    r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold, driven);
+    // The design holds the driven vertices' elements solid: they stay in the object.
+    r.post = post_process(r.mesh, design, r.continuous, r.reference_moments, scene.round_threshold);
   } catch (const SolverError& e) {
     if (continuous_path.empty()) throw;
     throw SolverError(std::string(e.what()) + "; the optimised continuous design is kept in " + continuous_path);

@@ -134,6 +134,19 @@ BodyFinalState AttackProblem::final_state(const Eigen::VectorXd& q_final,
   return s;
 }
 
+ReferenceRun AttackProblem::run_reference(const SimulationSettings& run_settings,
+                                          const ReferenceRunner& runner) const {
+  ReferenceRun r;
+  r.simulator = std::make_unique<Simulator>(world.mesh, reference_materials, run_settings,
+                                            scene.source + " (reference material)");
+  r.trajectory = runner ? runner(*r.simulator, q0, v0) : r.simulator->run(q0, v0);
+  const Eigen::VectorXd& q_final = r.trajectory.q.back();
+  const Eigen::VectorXd density = reference_materials.effective_density();
+  r.com = body_centre_of_mass(q_final, world.mesh, density, body());
+  r.scored_com = body_centre_of_mass(q_final, world.mesh, density, world.bodies[scored]);
+  return r;
+}
+
 BodyRun AttackProblem::simulate(const MaterialField& body_field) const {
   const MaterialField materials = world_materials(body_field);
   Simulator sim(world.mesh, materials, settings);
@@ -273,14 +286,12 @@ AttackProblem build_attack_problem(const Scene& scene, const AttackProblemOption
   p.reference_moments = compute_moments(p.body_mesh, uniform.effective_density());
 
   stage("simulating the reference object");
-  p.reference_simulator = std::make_unique<Simulator>(
-      p.world.mesh, p.reference_materials, p.settings, scene.source + " (reference material)");
-  p.reference = options.run_reference ? options.run_reference(*p.reference_simulator, p.q0, p.v0)
-                                      : p.reference_simulator->run(p.q0, p.v0);
+  ReferenceRun reference = p.run_reference(p.settings, options.run_reference);
+  p.reference_simulator = std::move(reference.simulator);
+  p.reference = std::move(reference.trajectory);
+  p.reference_com = reference.com;
+  p.scored_reference_com = reference.scored_com;
   const Eigen::VectorXd& q_ref = p.reference.q.back();
-  const Eigen::VectorXd reference_density = p.reference_materials.effective_density();
-  p.reference_com = body_centre_of_mass(q_ref, p.world.mesh, reference_density, a);
-  p.scored_reference_com = body_centre_of_mass(q_ref, p.world.mesh, reference_density, b);
   p.scored_length = radius_of_gyration(compute_moments(
       p.world.mesh,
       only_body(Eigen::VectorXd::Constant(p.world.mesh.num_tets(), scene.reference_rho), b)));

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
-
-#include "rbaa/error.hpp"
+#include <vector>
 
 namespace rbaa {
 
@@ -43,21 +41,13 @@ SolidObject remove_void_elements(const TetMesh& mesh, const MaterialField& field
 
 PostProcessResult post_process(const TetMesh& mesh, const DesignSpace& design,
                                const MaterialField& continuous, const Moments& reference,
-                               double threshold, const std::vector<int>& kept_vertices) {
+                               double threshold) {
   PostProcessResult r;
   r.rounded = continuous;
   if (design.optimises(DesignField::kAlpha)) {
-    std::vector<char> solid = design.boundary();
-    if (!kept_vertices.empty()) {
-      std::vector<char> kept(mesh.num_vertices(), 0);
-      for (int v : kept_vertices) {
-        if (v < 0 || v >= mesh.num_vertices()) throw InputError("post_process: kept vertex " + std::to_string(v) + " is not in the mesh");
-        kept[v] = 1;
-      }
-      for (int e = 0; e < mesh.num_tets(); ++e) {
-        for (int a = 0; a < 4; ++a) solid[e] = solid[e] || kept[mesh.T(e, a)];
-      }
-    }
+    // The design's held elements: boundary ones and those of its solid vertices (a driven body's
+    // driven vertices), so that every driven vertex stays in the object.
+    const std::vector<char>& solid = design.boundary();
     r.rounded.alpha = round_occupancy(continuous.alpha, solid, threshold);
     r.connectivity = repair_connectivity(mesh, solid, r.rounded.alpha);
   } else {

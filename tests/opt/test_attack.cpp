@@ -20,6 +20,7 @@
 #include "rbaa/opt/attack.hpp"
 #include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/simulator.hpp"
 
 namespace rbaa {
 namespace {
@@ -122,6 +123,20 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   const AttackProblem at_half = build_attack_problem(half, po);
   EXPECT_LE((c.scored_com_reference - at_half.reference_com).norm(), 1e-12);
   EXPECT_NEAR(c.reference_com_shift, (at_half.reference_com - r.scored_com_reference).norm(), 1e-12);
+  // Its com_gap is |c_A(T) - c_A,ref(T)| at h / 2: the final object's run and that reference's,
+  // both made here from the scene at h / 2.
+  const ReplacedWorld object_at_half =
+      at_half.with_body(r.post.solid.mesh, r.post.solid.materials, r.post.solid.vertex_origin);
+  Simulator object_sim(object_at_half.mesh, object_at_half.materials, object_at_half.settings);
+  const Trajectory object_run = object_sim.run(object_at_half.q0, object_at_half.v0);
+  const Eigen::Vector3d object_com = body_centre_of_mass(
+      object_run.q.back(), object_at_half.mesh, object_at_half.materials.effective_density(),
+      object_at_half.bodies[at_half.attacked]);
+  const double com_gap = (object_com - at_half.reference_com).norm();
+  std::printf("refinement: centre-of-mass gap %.4e m at h / 2\n", com_gap);
+  EXPECT_GT(com_gap, 0.0);
+  EXPECT_NEAR(c.com_gap, com_gap, 1e-12);
+  EXPECT_DOUBLE_EQ(report["refinement"]["com_gap"].get<double>(), c.com_gap);
   EXPECT_DOUBLE_EQ(report["refinement"]["gap"].get<double>(), c.gap);
   EXPECT_DOUBLE_EQ(report["refinement"]["time_step"].get<double>(), scene.time_step / 2);
   EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial.vtu"));

@@ -244,19 +244,19 @@ TEST(PostProcess, RoundsRepairsRefitsAndRemovesVoids) {
   EXPECT_EQ(count_components(r.solid.mesh), 1);
 }
 
-// A driven body is held by its driven vertices: elements touching them stay solid through the
-// rounding even where the design voided them, so every driven vertex stays in the final object
-// (AttackProblem::with_body maps driven vertices through the solid's vertex_origin and refuses a
-// lost one).
-TEST(PostProcess, KeepsTheElementsOfKeptVertices) {
+// A driven body is held by its driven vertices: the design holds the elements touching them solid
+// (DesignSpaceOptions::solid_vertices), and rounding keeps them even where the continuous field
+// voided them, so every driven vertex stays in the final object (AttackProblem::with_body maps
+// driven vertices through the solid's vertex_origin and refuses a lost one).
+TEST(PostProcess, KeepsTheElementsOfTheDesignsSolidVertices) {
   const TetMesh mesh = box_tet_mesh({-0.2, -0.1, 0.3}, {0.2, 0.1, 0.6}, 6, 4, 5);
-  const DesignSpace design(mesh, DesignSpaceOptions{});
+  const DesignSpace plain(mesh, DesignSpaceOptions{});
   const Moments reference = compute_moments(mesh, 2500.0);
-  MaterialField field = design.to_material(design.initial_theta());
-  // An interior vertex whose every element the design voids.
+  MaterialField field = plain.to_material(plain.initial_theta());
+  // An interior vertex whose every element the continuous field voids.
   std::vector<char> on_boundary_element(mesh.num_vertices(), 0);
   for (int e = 0; e < mesh.num_tets(); ++e) {
-    if (design.boundary()[e]) {
+    if (plain.boundary()[e]) {
       for (int a = 0; a < 4; ++a) on_boundary_element[mesh.T(e, a)] = 1;
     }
   }
@@ -276,13 +276,15 @@ TEST(PostProcess, KeepsTheElementsOfKeptVertices) {
     return std::find(r.solid.vertex_origin.begin(), r.solid.vertex_origin.end(), v) !=
            r.solid.vertex_origin.end();
   };
-  const PostProcessResult plain = post_process(mesh, design, field, reference, 0.5);
-  EXPECT_FALSE(keeps_vertex(plain));  // the design's voids remove it
-  const PostProcessResult held = post_process(mesh, design, field, reference, 0.5, {v});
-  EXPECT_TRUE(keeps_vertex(held));
-  for (int e : around) EXPECT_EQ(held.rounded.alpha[e], 1.0) << e;
-  EXPECT_LE(held.refit.max_residual, 1e-10);
-  EXPECT_THROW(post_process(mesh, design, field, reference, 0.5, {mesh.num_vertices()}), InputError);
+  const PostProcessResult lost = post_process(mesh, plain, field, reference, 0.5);
+  EXPECT_FALSE(keeps_vertex(lost));  // the field's voids remove it
+  DesignSpaceOptions o;
+  o.solid_vertices = {v};
+  const DesignSpace held(mesh, o);
+  const PostProcessResult kept = post_process(mesh, held, field, reference, 0.5);
+  EXPECT_TRUE(keeps_vertex(kept));
+  for (int e : around) EXPECT_EQ(kept.rounded.alpha[e], 1.0) << e;
+  EXPECT_LE(kept.refit.max_residual, 1e-10);
 }
 
 }  // namespace

@@ -86,7 +86,8 @@ class DesignSpace {
   }
   const TanhBoxMap& map(DesignField field) const { return maps_[index(field)]; }
 
-  /// #T flags of the elements whose alpha is fixed at 1 (boundary elements of the whole mesh).
+  /// #T flags of the elements whose alpha is fixed at 1 (boundary elements of the whole mesh and
+  /// the elements of solid_vertices).
   const std::vector<char>& boundary() const { return boundary_; }
   /// #designed element indices, increasing: entry i of the Y, nu and rho blocks belongs to
   /// designed()[i]. Every element without a mask.

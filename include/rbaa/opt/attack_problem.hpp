@@ -32,6 +32,19 @@
 
 namespace rbaa {
 
+/// A reference run: the world at the reference materials from q0, v0
+/// (AttackProblem::run_reference).
+struct ReferenceRun {
+  std::unique_ptr<Simulator> simulator;  ///< as left by the run
+  Trajectory trajectory;
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();         ///< c_A(T) (m)
+  Eigen::Vector3d scored_com = Eigen::Vector3d::Zero();  ///< c_B(T) (m)
+};
+
+/// How a reference run is made from its simulator; empty: reference.run(q0, v0) once.
+using ReferenceRunner = std::function<Trajectory(Simulator& reference, const Eigen::VectorXd& q0,
+                                                 const Eigen::VectorXd& v0)>;
+
 struct AttackProblemOptions {
   /// The attacked body: "object" or a name from scene.bodies; empty: the scene's attack.body.
   std::string attacked_body;
@@ -49,9 +62,7 @@ struct AttackProblemOptions {
   /// Build the gradient function (false: everything up to the design space).
   bool with_gradient = true;
   /// How the reference run is made; default reference.run(q0, v0) once (the study times it).
-  std::function<Trajectory(Simulator& reference, const Eigen::VectorXd& q0,
-                           const Eigen::VectorXd& v0)>
-      run_reference;
+  ReferenceRunner run_reference;
   /// Stage messages: "meshing the reference object", "simulating the reference object".
   std::function<void(const std::string&)> on_stage;
 };
@@ -123,6 +134,11 @@ struct AttackProblem {
                                 const std::string& source = "materials") const;
   /// A's elements of a world field (#T_A).
   MaterialField body_materials(const MaterialField& world_field) const;
+  /// The reference run under `settings` (the problem's own, or at a finer step for the
+  /// refinement check): world.mesh at reference_materials from q0, v0, made by `runner`, with A's
+  /// and B's centres of mass at T. Throws rbaa::SolverError if the run fails.
+  ReferenceRun run_reference(const SimulationSettings& settings,
+                             const ReferenceRunner& runner = {}) const;
   /// A's report figures of a world run with the given (world) materials.
   BodyFinalState final_state(const Eigen::VectorXd& q_final, const MaterialField& materials) const;
   /// Simulates the world with A's elements at `body_field` (#T_A) and the others at

@@ -37,13 +37,13 @@ struct PostProcessResult {
   double max_residual_before_refit = 0;  ///< max normalised moment residual after rounding
 };
 
-/// Rounds interior alpha at `threshold` (boundary elements stay 1, and so does every element
-/// with a vertex in `kept_vertices`: a driven body's driven vertices, which the drive holds and
-/// which must stay in the object), repairs connectivity, re-fits rho within the design's density
-/// range to `reference` (max normalised residual <= 1e-10) and removes the void elements. Throws
-/// rbaa::InputError when the void fraction leaves no density within bounds that can match m0.
+/// Rounds interior alpha at `threshold` (the design's held elements stay 1: boundary elements
+/// and those of its solid vertices, DesignSpaceOptions::solid_vertices), repairs connectivity,
+/// re-fits rho within the design's density range to `reference` (max normalised residual
+/// <= 1e-10) and removes the void elements. Throws rbaa::InputError when the void fraction leaves
+/// no density within bounds that can match m0.
 PostProcessResult post_process(const TetMesh& mesh, const DesignSpace& design,
                                const MaterialField& continuous, const Moments& reference,
-                               double threshold, const std::vector<int>& kept_vertices = {});
+                               double threshold);
 
 }  // namespace rbaa
