@@ -206,7 +206,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         << (scene.evaluation_body.empty() ? std::string("object") : "body '" + scene.evaluation_body + "'")
         << "'s centre of mass.\n\n"
         << "Restitution per plane, obstacle mesh and pair of bodies, fitted to the deformable baseline's first "
-           "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact normal; "
+           "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact's impulse; "
            "not fitted: restitution 1):\n\n"
         << "| contact | first contact (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
         << "|---|---|---|---|---|---|\n";
