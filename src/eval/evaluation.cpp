@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <ostream>
 #include <sstream>
 
@@ -206,25 +207,29 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
   return std::nan("");
 }
 
-RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
-                                             const RigidShape& shape, const Scene& scene,
-                                             RigidSettings settings, double duration, int plane,
-                                             double target, double tolerance,
-                                             const std::vector<RigidBody>& further) {
-  RestitutionCalibration c;
-  c.plane = plane;
+const char* restitution_contact_name(RestitutionContact contact) {
+  switch (contact) {
+    case RestitutionContact::kPlane:
+      return "plane";
+    case RestitutionContact::kMesh:
+      return "mesh";
+    case RestitutionContact::kBodies:
+      return "bodies";
+  }
+  return "?";
+}
+
+namespace {
+
+// Secant on f(e) = rebound(e) - target, starting from e = target (exact for a sphere), e kept in
+// [0, 3]; c.iterations counts the rebound calls. Leaves c uncalibrated with restitution 1 if the
+// rigid twin never rebounds (rebound NaN) at e = target.
+template <class Rebound>
+void fit_restitution(Rebound&& rebound, double target, double tolerance,
+                     RestitutionCalibration& c) {
   c.deformable_rebound = target;
-  const double g_step = scene.gravity.norm() * scene.time_step;
-  if (settings.plane_restitution.size() < scene.planes.size()) settings.plane_restitution.resize(scene.planes.size(), 1.0);
-  auto rebound = [&](double e) {
-    settings.plane_restitution[plane] = e;
-    ++c.iterations;
-    return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration, further),
-                               scene.planes[plane], g_step);
-  };
-  // Secant on f(e) = rebound(e) - target, starting from e = target (exact for a sphere).
   double e0 = std::max(target, 0.0), f0 = rebound(e0) - target;
-  if (std::isnan(f0)) return c;  // the rigid body never bounces off that plane
+  if (std::isnan(f0)) return;  // the rigid body never meets that contact
   double e1 = e0 * 1.05 + 1e-3, f1 = rebound(e1) - target;
   for (int it = 0; it < 30 && std::abs(f0) > tolerance * std::abs(target); ++it) {
     if (std::isnan(f1) || f1 == f0) break;
@@ -241,17 +246,209 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
   c.calibrated = std::abs(f0) <= tolerance * std::abs(target);
   c.restitution = e0;
   c.rigid_rebound = f0 + target;
+}
+
+}  // namespace
+
+RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
+                                             const RigidShape& shape, const Scene& scene,
+                                             RigidSettings settings, double duration, int plane,
+                                             double target, double tolerance,
+                                             const std::vector<RigidBody>& further) {
+  RestitutionCalibration c;
+  c.contact = RestitutionContact::kPlane;
+  c.plane = plane;
+  c.name = "plane " + std::to_string(plane);
+  const double g_step = scene.gravity.norm() * scene.time_step;
+  if (settings.plane_restitution.size() < scene.planes.size()) settings.plane_restitution.resize(scene.planes.size(), 1.0);
+  auto rebound = [&](double e) {
+    settings.plane_restitution[plane] = e;
+    ++c.iterations;
+    return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration, further),
+                               scene.planes[plane], g_step);
+  };
+  fit_restitution(rebound, target, tolerance, c);
+  return c;
+}
+
+namespace {
+
+// How a contact episode's pair is seen by both runs: which sides are free bodies (they fall under
+// gravity) and, for a driven side, the material point whose drive velocity stands for its
+// velocity (the episode's contact point carried back to t = 0 by the drive).
+struct EpisodeSides {
+  bool body_free = true, other_free = false;
+  const PrescribedMotion* body_drive = nullptr;
+  const PrescribedMotion* other_drive = nullptr;
+  Eigen::Vector3d material_point = Eigen::Vector3d::Zero();  // rest position (drive's t = 0)
+};
+
+// x0 with drive.position(x0, t) = x: x0 = centre + R(t)^T (x - centre - t velocity).
+Eigen::Vector3d drive_rest_point(const PrescribedMotion& drive, const Eigen::Vector3d& x, double t) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(drive.angle(t), drive.axis).toRotationMatrix();
+  return drive.centre + R.transpose() * (x - drive.centre - t * drive.velocity);
+}
+
+EpisodeSides episode_sides(const std::vector<Body>& bodies, const ContactEpisode& e, double t) {
+  EpisodeSides s;
+  auto driven = [&](int b) -> const PrescribedMotion* {
+    return b < static_cast<int>(bodies.size()) && bodies[b].is_driven() ? &bodies[b].drive : nullptr;
+  };
+  s.body_drive = driven(e.body);
+  s.body_free = s.body_drive == nullptr;
+  if (e.kind == ContactEpisode::Kind::kBodies) {
+    s.other_drive = driven(e.other);
+    s.other_free = s.other_drive == nullptr;
+  }
+  const PrescribedMotion* drive = s.body_drive ? s.body_drive : s.other_drive;
+  if (drive) s.material_point = drive_rest_point(*drive, e.point, t);
+  return s;
+}
+
+// -(w_out . n) / (w_in . n) along the direction n of the episode's impulse, w_out - w_in, with
+// the gravity the free sides gained between t_in and t_out taken off w_out; NaN unless the pair
+// approached along it (w_in . n < 0). Frictionless, n is the net contact normal, which on a
+// faceted surface is not the closest pair's (measured 8 deg apart for two 300-tet balls, whose
+// rigid twins are spheres).
+double episode_rebound(const Eigen::Vector3d& w_in, const Eigen::Vector3d& w_out,
+                       const EpisodeSides& s, const Eigen::Vector3d& gravity, double t_in,
+                       double t_out) {
+  const double free = (s.body_free ? 1.0 : 0.0) - (s.other_free ? 1.0 : 0.0);
+  const Eigen::Vector3d out = w_out - free * (t_out - t_in) * gravity;
+  const Eigen::Vector3d impulse = out - w_in;
+  if (!(impulse.norm() > 0)) return std::nan("");
+  const Eigen::Vector3d n = impulse.normalized();
+  const double in = w_in.dot(n);
+  if (!(in < 0)) return std::nan("");
+  return -out.dot(n) / in;
+}
+
+// The first episode of a pair in a rigid run's touches: the samples from its first touch to its
+// last with gaps of at most three samples bridged (a non-round body rocks onto another corner a
+// few steps later), as rigid_first_rebound does; {-1, -1} if the pair never touched or still
+// touches within three samples of the end.
+std::pair<int, int> rigid_episode(const std::vector<RigidTouch>& touches, RigidContactSide first,
+                                  RigidContactSide second, int num_samples) {
+  std::vector<int> samples;
+  for (const RigidTouch& t : touches) {
+    if (t.first == first && t.second == second) samples.push_back(t.sample);
+  }
+  if (samples.empty()) return {-1, -1};
+  int last = samples[0];
+  for (size_t i = 1; i < samples.size() && samples[i] <= last + 4; ++i) last = samples[i];
+  if (last + 4 >= num_samples) return {-1, -1};
+  return {samples[0], last};
+}
+
+}  // namespace
+
+RestitutionCalibration calibrate_contact_restitution(
+    const SimulationRun& run, const ContactEpisode& episode, const RigidMassProperties& mass,
+    const RigidShape& shape, const Scene& scene, RigidSettings settings, double duration,
+    double tolerance, const std::vector<RigidBody>& further) {
+  RestitutionCalibration c;
+  const bool mesh = episode.kind == ContactEpisode::Kind::kMesh;
+  const int num_bodies = 1 + static_cast<int>(further.size());
+  if (episode.body < 0 || episode.body >= num_bodies ||
+      (mesh ? episode.other < 0 || episode.other >= static_cast<int>(scene.obstacle_meshes.size())
+            : episode.other <= episode.body || episode.other >= num_bodies)) {
+    throw InputError(scene.source + ": a contact episode names a body or mesh the scene has not");
+  }
+  auto body_name = [&](int b) { return b == 0 ? std::string("object") : scene.bodies.at(b - 1).name; };
+  c.contact = mesh ? RestitutionContact::kMesh : RestitutionContact::kBodies;
+  c.body_a = episode.body;
+  if (mesh) {
+    c.mesh = episode.other;
+    const ObstacleMesh& m = scene.obstacle_meshes[episode.other];
+    const std::string stem = std::filesystem::path(m.file).stem().string();
+    c.name = "mesh " + (stem.empty() ? std::to_string(episode.other) : stem);
+  } else {
+    c.body_b = episode.other;
+    c.name = "bodies " + body_name(episode.body) + "-" + body_name(episode.other);
+  }
+  const double h = scene.time_step;
+  c.time = episode.first_step * h;
+  c.deformable_rebound = std::nan("");
+
+  std::vector<Body> bodies = run.bodies;
+  const EpisodeSides sides = episode_sides(bodies, episode, c.time);
+  if (!sides.body_free && !sides.other_free) return c;  // two driven sides: no impulse to fit
+
+  // The run's rebound: centre-of-mass velocities of the free sides from its trajectory.
+  auto deformable_velocity = [&](int b, const PrescribedMotion* drive, int k) -> Eigen::Vector3d {
+    const double t = run.trajectory.time(k);
+    if (drive) return drive->point_velocity(sides.material_point, t);
+    if (bodies.empty()) return run.observables.at(k).com_velocity;
+    const Body& body = bodies.at(b);
+    return centre_of_mass(
+        run.trajectory.velocity(k).segment(3 * body.vertex_begin, 3 * body.num_vertices()),
+        run.vertex_masses.segment(body.vertex_begin, body.num_vertices()));
+  };
+  auto relative = [&](auto&& velocity, int k) -> Eigen::Vector3d {
+    Eigen::Vector3d w = velocity(episode.body, sides.body_drive, k);
+    if (!mesh) w -= velocity(episode.other, sides.other_drive, k);
+    return w;
+  };
+  if (!episode.complete) return c;
+  const int k_in = episode.first_step - 1, k_out = episode.out_step;
+  const double target =
+      episode_rebound(relative(deformable_velocity, k_in), relative(deformable_velocity, k_out),
+                      sides, scene.gravity, run.trajectory.time(k_in), run.trajectory.time(k_out));
+  c.deformable_rebound = target;
+  if (!(target > 0)) return c;  // no reversal: nothing a restitution reproduces
+
+  const RigidContactSide first{RigidContactSide::Kind::kBody, episode.body};
+  const RigidContactSide second{mesh ? RigidContactSide::Kind::kMesh : RigidContactSide::Kind::kBody,
+                                episode.other};
+  if (mesh) {
+    if (settings.mesh_restitution.size() < scene.obstacle_meshes.size()) {
+      settings.mesh_restitution.resize(scene.obstacle_meshes.size(), 1.0);
+    }
+  } else {
+    auto& pairs = settings.pair_restitution;
+    pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
+                               [&](const BodyPairRestitution& p) {
+                                 return std::minmax(p.a, p.b) ==
+                                        std::minmax(episode.body, episode.other);
+                               }),
+                pairs.end());
+    pairs.push_back({episode.body, episode.other, 1.0});
+  }
+  auto rebound = [&](double e) {
+    if (mesh) {
+      settings.mesh_restitution[episode.other] = e;
+    } else {
+      settings.pair_restitution.back().restitution = e;
+    }
+    ++c.iterations;
+    std::vector<RigidTouch> touches;
+    const auto states =
+        simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
+    const int num_samples = static_cast<int>(states.front().size());
+    const auto [n_first, n_last] = rigid_episode(touches, first, second, num_samples);
+    if (n_first < 1) return std::nan("");
+    auto rigid_velocity = [&](int b, const PrescribedMotion* drive, int k) -> Eigen::Vector3d {
+      if (drive) return drive->point_velocity(sides.material_point, states[b][k].time);
+      return states[b][k].velocity;
+    };
+    return episode_rebound(relative(rigid_velocity, n_first - 1), relative(rigid_velocity, n_last),
+                           sides, scene.gravity, states[0][n_first - 1].time,
+                           states[0][n_last].time);
+  };
+  fit_restitution(rebound, target, tolerance, c);
   return c;
 }
 
 namespace {
 
 // Fits each plane's restitution (rigid.plane_restitution, reset to 1 first) to a deformable run's
-// first rebound off it, in the order of the contacts, so that the rigid twin starts every plane's
-// contact as the run did. A corner episode has no restitution, but the rigid twin meets the same
-// corner: its rebound ratio along each touched plane's normal across the episode is what
-// rigid_first_rebound measures on the twin, so that ratio is the target (when the normal velocity
-// reversed).
+// first rebound off it, and each obstacle mesh's and pair of bodies' (rigid.mesh_restitution and
+// rigid.pair_restitution, reset to 1 and none) to the run's first episode with it, in the order of
+// the contacts, so that the rigid twin starts every contact as the run did. A corner episode has
+// no restitution, but the rigid twin meets the same corner: its rebound ratio along each touched
+// plane's normal across the episode is what rigid_first_rebound measures on the twin, so that
+// ratio is the target (when the normal velocity reversed). A scene with one body and no meshes
+// has only planes, fitted exactly as before meshes and pairs were.
 std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
                                                      const RigidMassProperties& mass,
                                                      const RigidShape& shape, const Scene& scene,
@@ -259,27 +456,59 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
                                                      RigidSettings& rigid, double tolerance) {
   std::vector<RestitutionCalibration> calibrations;
   rigid.plane_restitution.assign(scene.planes.size(), 1.0);
+  rigid.mesh_restitution.assign(scene.obstacle_meshes.size(), 1.0);
+  rigid.pair_restitution.clear();
+  std::vector<ContactEpisode> episodes;
+  if (!scene.obstacle_meshes.empty() || !further.empty()) {
+    episodes = first_contact_episodes(run, scene.obstacle_meshes, scene.planes, scene.d_hat);
+  }
+  // Every contact in time order: the planes' in the order of the bounces (as before), the
+  // episodes' merged in by their first step.
+  struct Contact {
+    int step;
+    const Bounce* bounce;  // with `plane` its entry; null for an episode
+    size_t plane;
+    const ContactEpisode* episode;
+  };
+  std::vector<Contact> contacts;
   for (const Bounce& b : run.bounces) {
     if (b.kind != BounceKind::kBounce && b.kind != BounceKind::kCorner) continue;
-    for (size_t i = 0; i < b.planes.size(); ++i) {
-      const int plane = b.planes[i];
-      const double in = b.normal_velocity_in[i], out_v = b.normal_velocity_out[i];
-      if (!(in < 0 && out_v > 0)) continue;
-      const double rebound = -out_v / in;
-      bool seen = false;
-      for (auto& c : calibrations) {
-        if (c.plane == plane) {
-          if (b.kind == BounceKind::kBounce) c.later_deformable_rebounds.push_back(rebound);
-          seen = true;
-        }
+    for (size_t i = 0; i < b.planes.size(); ++i) contacts.push_back({b.first_step, &b, i, nullptr});
+  }
+  for (const ContactEpisode& e : episodes) contacts.push_back({e.first_step, nullptr, 0, &e});
+  std::stable_sort(contacts.begin(), contacts.end(),
+                   [](const Contact& x, const Contact& y) { return x.step < y.step; });
+  for (const Contact& contact : contacts) {
+    if (contact.episode) {
+      RestitutionCalibration c = calibrate_contact_restitution(
+          run, *contact.episode, mass, shape, scene, rigid, scene.duration, tolerance, further);
+      if (c.contact == RestitutionContact::kMesh) {
+        rigid.mesh_restitution[c.mesh] = c.restitution;
+      } else {
+        rigid.pair_restitution.push_back({c.body_a, c.body_b, c.restitution});
       }
-      if (seen) continue;
-      RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration,
-                                                       plane, rebound, tolerance, further);
-      c.time = b.first_step * scene.time_step;
-      rigid.plane_restitution[plane] = c.restitution;
       calibrations.push_back(c);
+      continue;
     }
+    const Bounce& b = *contact.bounce;
+    const size_t i = contact.plane;
+    const int plane = b.planes[i];
+    const double in = b.normal_velocity_in[i], out_v = b.normal_velocity_out[i];
+    if (!(in < 0 && out_v > 0)) continue;
+    const double rebound = -out_v / in;
+    bool seen = false;
+    for (auto& c : calibrations) {
+      if (c.contact == RestitutionContact::kPlane && c.plane == plane) {
+        if (b.kind == BounceKind::kBounce) c.later_deformable_rebounds.push_back(rebound);
+        seen = true;
+      }
+    }
+    if (seen) continue;
+    RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration,
+                                                     plane, rebound, tolerance, further);
+    c.time = b.first_step * scene.time_step;
+    rigid.plane_restitution[plane] = c.restitution;
+    calibrations.push_back(c);
   }
   return calibrations;
 }

@@ -88,19 +88,40 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                                     ev.adversarial_mesh, ev.adversarial_materials,
                                     ev.adversarial_moments.centre_of_mass());
 
+  // Which contact a calibration is: "plane": i, "mesh": i or "bodies": [a, b], and its name.
+  auto contact_json = [](const RestitutionCalibration& c) {
+    nlohmann::json j = {{"contact", c.name}, {"kind", restitution_contact_name(c.contact)}};
+    switch (c.contact) {
+      case RestitutionContact::kPlane:
+        j["plane"] = c.plane;
+        break;
+      case RestitutionContact::kMesh:
+        j["mesh"] = c.mesh;
+        j["body"] = c.body_a;
+        break;
+      case RestitutionContact::kBodies:
+        j["bodies"] = {c.body_a, c.body_b};
+        break;
+    }
+    return j;
+  };
   nlohmann::json calibration = nlohmann::json::array();
   for (const auto& c : ev.calibrations) {
-    calibration.push_back({{"plane", c.plane}, {"time_s", c.time}, {"calibrated", c.calibrated},
-                           {"deformable_first_rebound", c.deformable_rebound}, {"rigid_first_rebound", c.rigid_rebound},
-                           {"restitution", c.restitution}, {"iterations", c.iterations},
-                           {"deformable_later_rebounds", c.later_deformable_rebounds}});
+    nlohmann::json j = contact_json(c);
+    j.update({{"time_s", c.time}, {"calibrated", c.calibrated},
+              {"deformable_first_rebound", c.deformable_rebound}, {"rigid_first_rebound", c.rigid_rebound},
+              {"restitution", c.restitution}, {"iterations", c.iterations},
+              {"deformable_later_rebounds", c.later_deformable_rebounds}});
+    calibration.push_back(std::move(j));
   }
   auto own_twin_json = [&](const OwnTwin& t) {
     nlohmann::json cal = nlohmann::json::array();
     for (const auto& c : t.calibrations) {
-      cal.push_back({{"plane", c.plane}, {"deformable_first_rebound", c.deformable_rebound},
-                     {"rigid_first_rebound", c.rigid_rebound}, {"restitution", c.restitution},
-                     {"calibrated", c.calibrated}});
+      nlohmann::json j = contact_json(c);
+      j.update({{"deformable_first_rebound", c.deformable_rebound},
+                {"rigid_first_rebound", c.rigid_rebound}, {"restitution", c.restitution},
+                {"calibrated", c.calibrated}});
+      cal.push_back(std::move(j));
     }
     return nlohmann::json{{"calibration", cal}, {"vs_own_twin", comparison_json(t.gap)},
                           {"path_length_m", t.path_length}, {"unexplained", t.unexplained}};
@@ -184,11 +205,13 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         << ". Compared: the "
         << (scene.evaluation_body.empty() ? std::string("object") : "body '" + scene.evaluation_body + "'")
         << "'s centre of mass.\n\n"
-        << "Restitution per plane, fitted to the deformable baseline's first rebound off it:\n\n"
-        << "| plane | first bounce (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
+        << "Restitution per plane, obstacle mesh and pair of bodies, fitted to the deformable baseline's first "
+           "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact's impulse; "
+           "not fitted: restitution 1):\n\n"
+        << "| contact | first contact (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
         << "|---|---|---|---|---|---|\n";
     for (const auto& c : ev.calibrations) {
-      out << "| " << c.plane << " | " << fmt(c.time) << " | " << fmt(c.deformable_rebound, 6) << " | "
+      out << "| " << c.name << " | " << fmt(c.time) << " | " << fmt(c.deformable_rebound, 6) << " | "
           << fmt(c.rigid_rebound, 6) << (c.calibrated ? "" : " (not fitted)") << " | " << fmt(c.restitution, 6) << " | ";
       for (double r : c.later_deformable_rebounds) out << fmt(r) << " ";
       out << "|\n";
@@ -247,13 +270,13 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
           << " x that (above 1 the optimisation adds to what softness alone does; below 1 it does not).\n";
     }
     out << "\nEach deformable run against a rigid twin calibrated to its own rebounds (its own moments, "
-           "each plane's restitution fitted to its own first rebound off it): what remains is what no "
+           "each plane's, mesh's and pair's restitution fitted to its own first contact with it): what remains is what no "
            "rigid simulator with a tuned restitution explains.\n\n"
         << "| run | fitted restitutions | gap at T (m) | max gap (m) | max gap / path | velocity angle at T (deg) |\n"
         << "|---|---|---|---|---|---|\n";
     auto own_row = [&](const std::string& name, const OwnTwin& t) {
       out << "| " << name << " | ";
-      for (const auto& c : t.calibrations) out << "plane " << c.plane << ": " << fmt(c.restitution, 4) << (c.calibrated ? "" : " (not fitted)") << " ";
+      for (const auto& c : t.calibrations) out << c.name << ": " << fmt(c.restitution, 4) << (c.calibrated ? "" : " (not fitted)") << " ";
       out << "| " << fmt(t.gap.position_gap) << " | " << fmt(t.gap.max_position_gap) << " | "
           << fmt(100 * t.unexplained, 3) << " % | " << fmt(t.gap.velocity_angle_deg) << " |\n";
     };

@@ -30,7 +30,8 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
 
 std::vector<std::vector<RigidState>> simulate_rigid_bodies(
     const RigidMassProperties& mass, const RigidShape& shape, const Scene& scene,
-    const RigidSettings& settings, double duration, const std::vector<RigidBody>& further) {
+    const RigidSettings& settings, double duration, const std::vector<RigidBody>& further,
+    std::vector<RigidTouch>* touches) {
   // A margin beyond d_hat would let the twin bounce off a gap the deformable body never feels.
   if (settings.margin > scene.d_hat) {
     std::ostringstream msg;
@@ -55,7 +56,7 @@ std::vector<std::vector<RigidState>> simulate_rigid_bodies(
   }
   bodies.push_back(std::move(object));
   bodies.insert(bodies.end(), further.begin(), further.end());
-  return simulate_rigid(rigid_world(scene, std::move(bodies)), settings, duration);
+  return simulate_rigid(rigid_world(scene, std::move(bodies)), settings, duration, touches);
 }
 
 }  // namespace rbaa

@@ -6,8 +6,12 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
+#include <set>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "rbaa/error.hpp"
 
@@ -29,13 +33,73 @@ Eigen::Matrix3d from_bt(const btMatrix3x3& m) {
   return r;
 }
 
+// Which object of the RigidWorld a Bullet object is: its user index holds the kind, its second
+// user index the position in the world's list.
+void tag(btCollisionObject& object, RigidContactSide side) {
+  object.setUserIndex(static_cast<int>(side.kind));
+  object.setUserIndex2(side.index);
+}
+RigidContactSide side_of(const btCollisionObject& object) {
+  return {static_cast<RigidContactSide::Kind>(object.getUserIndex()), object.getUserIndex2()};
+}
+
+// Orders a pair as RigidTouch does: a body first, two bodies by index.
+std::pair<RigidContactSide, RigidContactSide> ordered(RigidContactSide x, RigidContactSide y) {
+  const bool x_body = x.kind == RigidContactSide::Kind::kBody;
+  const bool y_body = y.kind == RigidContactSide::Kind::kBody;
+  if (!x_body || (y_body && y.index < x.index)) std::swap(x, y);
+  return {x, y};
+}
+
+// Bullet's dynamics world with two things done between collision detection and the solve, where
+// the new contact points of the step exist but have no impulse yet:
+// * named pairs of bodies get their own restitution. Bullet otherwise gives a pair the product of
+//   the two objects' values (which cannot give ball-bat and ball-floor independent values once the
+//   ball's own factor is shared) or a process-wide callback (global state, shared by every world
+//   in the process); overwriting the points' combined restitution here touches only this world.
+// * every pair with a point the solver will treat (distance <= the manifold's processing
+//   threshold, the solver's own test) is logged, for the calibration's contact episodes.
+class TwinDynamicsWorld : public btDiscreteDynamicsWorld {
+ public:
+  using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
+
+  std::map<std::pair<int, int>, double> pair_restitution;  // (body a, body b), a < b
+  bool log_touches = false;
+  std::set<std::tuple<int, int, int, int>> touching;  // since the last clear: ordered pairs
+
+  void solveConstraints(btContactSolverInfo& info) override {
+    btDispatcher* dispatcher = getDispatcher();
+    for (int i = 0; i < dispatcher->getNumManifolds(); ++i) {
+      btPersistentManifold* m = dispatcher->getManifoldByIndexInternal(i);
+      if (m->getNumContacts() == 0) continue;
+      const auto [x, y] = ordered(side_of(*m->getBody0()), side_of(*m->getBody1()));
+      if (y.kind == RigidContactSide::Kind::kBody && !pair_restitution.empty()) {
+        const auto it = pair_restitution.find({x.index, y.index});
+        if (it != pair_restitution.end()) {
+          for (int p = 0; p < m->getNumContacts(); ++p) {
+            m->getContactPoint(p).m_combinedRestitution = it->second;
+          }
+        }
+      }
+      if (!log_touches) continue;
+      for (int p = 0; p < m->getNumContacts(); ++p) {
+        if (m->getContactPoint(p).getDistance() <= m->getContactProcessingThreshold()) {
+          touching.insert({static_cast<int>(x.kind), x.index, static_cast<int>(y.kind), y.index});
+          break;
+        }
+      }
+    }
+    btDiscreteDynamicsWorld::solveConstraints(info);
+  }
+};
+
 // Owns everything a Bullet world needs; Bullet does not own its parts.
 struct BulletWorld {
   btDefaultCollisionConfiguration configuration;
   btCollisionDispatcher dispatcher{&configuration};
   btDbvtBroadphase broadphase;
   btSequentialImpulseConstraintSolver solver;
-  btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
+  TwinDynamicsWorld world{&dispatcher, &broadphase, &solver, &configuration};
   std::vector<std::unique_ptr<btTriangleMesh>> triangle_meshes;  // outlive their BVH shapes
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btDefaultMotionState>> motion_states;
@@ -80,9 +144,10 @@ std::unique_ptr<btCollisionShape> make_child_shape(const RigidShape& shape, doub
 
 // A static obstacle: Bullet's mass-0 body, which never moves.
 void add_obstacle(BulletWorld& w, std::unique_ptr<btCollisionShape> shape, double restitution,
-                  double friction) {
+                  double friction, RigidContactSide side) {
   btRigidBody::btRigidBodyConstructionInfo ci(0.0, nullptr, shape.get());
   auto body = std::make_unique<btRigidBody>(ci);
+  tag(*body, side);
   body->setRestitution(restitution);
   body->setFriction(friction);
   w.world.addRigidBody(body.get());
@@ -117,7 +182,7 @@ std::unique_ptr<btCollisionShape> make_mesh_shape(BulletWorld& w, const Obstacle
 // A dynamic body. Its Bullet frame is the principal frame at the centre of mass; the collision
 // shape, given in placed mesh coordinates, sits in it through the compound's child transform
 // y = A^T (x - c).
-btRigidBody* add_body(BulletWorld& w, const RigidBody& r, const RigidSettings& settings,
+btRigidBody* add_body(BulletWorld& w, const RigidBody& r, int index, const RigidSettings& settings,
                       double friction) {
   if (r.kinematic) validate_prescribed_motion(r.drive, "rigid body " + r.name + "'s drive");
   const RigidMassProperties& mass = r.mass;
@@ -143,6 +208,7 @@ btRigidBody* add_body(BulletWorld& w, const RigidBody& r, const RigidSettings& s
   ci.m_restitution = settings.restitution;
   ci.m_friction = friction;
   auto body = std::make_unique<btRigidBody>(ci);
+  tag(*body, {RigidContactSide::Kind::kBody, index});
   if (r.kinematic) {
     // Mass 0 made it static; kinematic instead (moved by its motion state, never integrated).
     body->setCollisionFlags((body->getCollisionFlags() & ~btCollisionObject::CF_STATIC_OBJECT) |
@@ -176,11 +242,43 @@ btTransform kinematic_pose(const RigidBody& r, double t) {
                      to_bt(r.drive.position(r.mass.centre, t)));
 }
 
+// Throws unless every restitution is a finite number >= 0 and every pair names two different
+// bodies of the world, once.
+void validate_restitutions(const RigidSettings& settings, int num_bodies) {
+  auto check = [](double e, const std::string& what) {
+    if (!(e >= 0) || !std::isfinite(e)) {
+      std::ostringstream msg;
+      msg << "rigid settings: " << what << " must be a finite number >= 0, got " << e;
+      throw InputError(msg.str());
+    }
+  };
+  check(settings.restitution, "the body restitution");
+  for (size_t i = 0; i < settings.plane_restitution.size(); ++i) {
+    check(settings.plane_restitution[i], "plane " + std::to_string(i) + "'s restitution");
+  }
+  for (size_t i = 0; i < settings.mesh_restitution.size(); ++i) {
+    check(settings.mesh_restitution[i], "obstacle mesh " + std::to_string(i) + "'s restitution");
+  }
+  std::set<std::pair<int, int>> seen;
+  for (const BodyPairRestitution& p : settings.pair_restitution) {
+    const std::string name =
+        "the restitution of bodies (" + std::to_string(p.a) + ", " + std::to_string(p.b) + ")";
+    if (p.a < 0 || p.b < 0 || p.a >= num_bodies || p.b >= num_bodies || p.a == p.b) {
+      throw InputError("rigid settings: " + name + " must name two different bodies of the " +
+                       std::to_string(num_bodies) + " in the world");
+    }
+    if (!seen.insert(std::minmax(p.a, p.b)).second) {
+      throw InputError("rigid settings: " + name + " is given twice");
+    }
+    check(p.restitution, name);
+  }
+}
+
 }  // namespace
 
 std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
-                                                    const RigidSettings& settings,
-                                                    double duration) {
+                                                    const RigidSettings& settings, double duration,
+                                                    std::vector<RigidTouch>* touches) {
   if (world.bodies.empty()) throw InputError("rigid world: no bodies to simulate");
   if (!(world.time_step > 0) || !(duration >= 0)) {
     std::ostringstream msg;
@@ -195,6 +293,8 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
         << settings.friction;
     throw InputError(msg.str());
   }
+  validate_restitutions(settings, static_cast<int>(world.bodies.size()));
+  if (touches) touches->clear();
   const double h = world.time_step;
   // The largest internal step not above the requested one that divides the output step.
   const int substeps = static_cast<int>(std::ceil(h / settings.internal_step - 1e-9));
@@ -225,15 +325,21 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
     const Plane& plane = world.planes[p];
     add_obstacle(w, std::make_unique<btStaticPlaneShape>(to_bt(plane.normal), plane.offset),
                  p < settings.plane_restitution.size() ? settings.plane_restitution[p] : 1.0,
-                 friction);
+                 friction, {RigidContactSide::Kind::kPlane, static_cast<int>(p)});
   }
   for (size_t m = 0; m < world.obstacle_meshes.size(); ++m) {
     add_obstacle(w, make_mesh_shape(w, world.obstacle_meshes[m]),
                  m < settings.mesh_restitution.size() ? settings.mesh_restitution[m] : 1.0,
-                 friction);
+                 friction, {RigidContactSide::Kind::kMesh, static_cast<int>(m)});
   }
   std::vector<btRigidBody*> bodies;
-  for (const RigidBody& r : world.bodies) bodies.push_back(add_body(w, r, settings, friction));
+  for (size_t b = 0; b < world.bodies.size(); ++b) {
+    bodies.push_back(add_body(w, world.bodies[b], static_cast<int>(b), settings, friction));
+  }
+  for (const BodyPairRestitution& p : settings.pair_restitution) {
+    w.world.pair_restitution[std::minmax(p.a, p.b)] = p.restitution;
+  }
+  w.world.log_touches = touches != nullptr;
 
   auto sample = [&](size_t b, double t) {
     const btTransform& T = bodies[b]->getWorldTransform();
@@ -271,6 +377,14 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
   for (int n = 1; n <= steps; ++n) {
     for (int k = 0; k < substeps; ++k) step_to((n - 1) * h + (k + 1) * dt);
     for (size_t b = 0; b < bodies.size(); ++b) states[b].push_back(sample(b, n * h));
+    if (touches) {
+      for (const auto& [xk, xi, yk, yi] : w.world.touching) {
+        touches->push_back({n,
+                            {static_cast<RigidContactSide::Kind>(xk), xi},
+                            {static_cast<RigidContactSide::Kind>(yk), yi}});
+      }
+      w.world.touching.clear();
+    }
   }
   return states;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rbaa/eval/contact_episodes.hpp"
 #include "rbaa/eval/demonstration.hpp"
 #include "rbaa/eval/rigid_twin.hpp"
 #include "rbaa/geometry/moments.hpp"
@@ -38,17 +39,34 @@ struct RunComparison {
   double orientation_gap_deg = 0; ///< angle of R_a(T) R_b(T)^T
 };
 
-/// The rigid restitution of one plane, fitted to the deformable baseline's first bounce off it.
+/// What a fitted restitution belongs to: a plane, an obstacle mesh or a pair of bodies.
+enum class RestitutionContact { kPlane, kMesh, kBodies };
+
+/// "plane", "mesh", "bodies" (report.json's names).
+const char* restitution_contact_name(RestitutionContact contact);
+
+/// The rigid restitution of one plane, obstacle mesh or pair of bodies, fitted to the deformable
+/// run's first contact episode with it (a plane's: its first bounce).
 struct RestitutionCalibration {
-  bool calibrated = false;      ///< false when the rigid body never bounces off that plane
-  int plane = -1;
-  double time = 0;                ///< of the baseline's first bounce off the plane (s)
+  /// false when there is no clean episode (the normal velocity did not reverse, the episode did
+  /// not end) or the rigid twin never meets that contact: the restitution then stays 1.
+  bool calibrated = false;
+  RestitutionContact contact = RestitutionContact::kPlane;
+  std::string name;  ///< the report's: "plane 0", "mesh backboard", "bodies object-ball"
+  int plane = -1;    ///< kPlane: RigidWorld::planes index
+  int mesh = -1;     ///< kMesh: RigidWorld::obstacle_meshes index
+  /// kBodies: the pair (RigidWorld::bodies indices, 0 the object, a < b); kMesh: body_a is the
+  /// body whose episode was fitted (the mesh's first).
+  int body_a = -1, body_b = -1;
+  double time = 0;                ///< of the run's first contact (s)
   /// -v_n,out / v_n,in of the baseline's first contact with the plane: a bounce's restitution,
   /// or, for a corner episode, the ratio along this plane's normal across the episode (a fit
   /// target for the twin, which meets the same corner; no restitution of the plane alone).
+  /// For a mesh or a pair: the same ratio of the relative velocity along the episode's contact
+  /// normal (calibrate_contact_restitution).
   double deformable_rebound = 0;
   double rigid_rebound = 0;       ///< the same ratio for the rigid reference, fitted
-  double restitution = 1.0;       ///< the plane's Bullet restitution that achieves it
+  double restitution = 1.0;       ///< the Bullet restitution that achieves it
   int iterations = 0;
   std::vector<double> later_deformable_rebounds;  ///< restitutions of later one-plane bounces
 };
@@ -83,7 +101,7 @@ struct EvaluationOptions {
   /// modulus (same moments): the share of a gap that softness alone explains.
   bool soft_control = true;
   std::ostream* progress = nullptr;  ///< one line per step tried by the search
-  /// Plane restitutions are overwritten by the calibration, and the friction by the scene's
+  /// Plane, mesh and body-pair restitutions are overwritten by the calibration, and the friction by the scene's
   /// contact.friction when every surface has it (Evaluation::rigid_friction).
   RigidSettings rigid;
   double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
@@ -104,8 +122,8 @@ struct Evaluation {
   /// else EvaluationOptions::rigid.friction.
   double rigid_friction = 0;
   bool rigid_friction_from_scene = false;
-  /// One per plane the baseline bounces off, in the order of their first bounces (each fitted
-  /// with the earlier planes' values in place). A single restitution cannot reproduce BDF-2's
+  /// One per plane the baseline bounces off, obstacle mesh it meets and pair of bodies that
+  /// touch, in the order of their first contacts (each fitted with the earlier values in place). A single restitution cannot reproduce BDF-2's
   /// rebounds, which depend on where in a step the impact falls (SPEC section 2).
   std::vector<RestitutionCalibration> calibrations;
   RunTrace rigid_reference, rigid_adversarial, deformable_reference, deformable_adversarial;
@@ -165,6 +183,25 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
 /// The first rebound ratio of a rigid trace off plane `plane` (NaN if none).
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
                            double gravity_speed_per_step);
+
+/// Fits the restitution of an obstacle mesh (settings.mesh_restitution[episode.other]) or of a
+/// pair of bodies (an entry of settings.pair_restitution) to `episode` of the deformable `run`
+/// (contact_episodes.hpp), so that the rigid twin's first episode of the same pair (Bullet's own
+/// contacts, RigidTouch) has the same rebound ratio
+///
+///   -(w_out . n) / (w_in . n),  w = u_body - u_other,  n = (w_out - w_in) / |w_out - w_in|,
+///
+/// u a free body's centre-of-mass velocity, a driven body's velocity at the material point of the
+/// episode's contact point, 0 for a mesh; w_out without the gravity the free sides gained over the
+/// episode (not the contact's doing); n the direction of the episode's impulse, each run's own
+/// (frictionless: the contact normal; for two spheres the ratio is then Bullet's restitution).
+/// A secant search from e = target, as for planes. Not fitted (restitution 1) when the run's
+/// episode is not clean (unfinished, w_in . n >= 0, or w_out . n <= 0) or the twin never meets
+/// that pair. `further` and the body indices as simulate_rigid_bodies'.
+RestitutionCalibration calibrate_contact_restitution(
+    const SimulationRun& run, const ContactEpisode& episode, const RigidMassProperties& mass,
+    const RigidShape& shape, const Scene& scene, RigidSettings settings, double duration,
+    double tolerance, const std::vector<RigidBody>& further = {});
 
 /// DIR/report.json, DIR/summary.md, DIR/<run>.csv and DIR/paths.{gp,png}.
 void write_evaluation(const Evaluation& evaluation, const Scene& scene, const std::string& dir);

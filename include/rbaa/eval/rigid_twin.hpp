@@ -24,9 +24,11 @@ std::vector<RigidState> simulate_rigid(const RigidMassProperties& mass, const Ri
                                        double duration, const std::vector<RigidBody>& further = {},
                                        int body = 0);
 
-/// The same run, every body's states: [0] the object, [i] further[i - 1].
+/// The same run, every body's states: [0] the object, [i] further[i - 1]; with `touches`, the
+/// pairs that touched (rigid_simulation.hpp; body indices as the states').
 std::vector<std::vector<RigidState>> simulate_rigid_bodies(
     const RigidMassProperties& mass, const RigidShape& shape, const Scene& scene,
-    const RigidSettings& settings, double duration, const std::vector<RigidBody>& further = {});
+    const RigidSettings& settings, double duration, const std::vector<RigidBody>& further = {},
+    std::vector<RigidTouch>* touches = nullptr);
 
 }  // namespace rbaa

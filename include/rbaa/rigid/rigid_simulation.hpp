@@ -14,11 +14,19 @@
 
 namespace rbaa {
 
+/// The restitution of one pair of bodies (indices in RigidWorld::bodies, a != b, either order).
+struct BodyPairRestitution {
+  int a = 0, b = 1;
+  double restitution = 1.0;
+};
+
 /// Bullet combines the coefficients of the two objects in a contact by their product. Every
 /// object (body, plane, mesh) gets sqrt(friction), so that every pair, body-obstacle and
 /// body-body alike, has the Coulomb coefficient `friction`. Restitution is a product too: a body
 /// against obstacle i has restitution * plane_restitution[i] (or mesh_restitution[i]); two bodies
-/// have restitution^2.
+/// have restitution^2, unless pair_restitution names the pair: then exactly its value (a product
+/// of per-body factors cannot give every pair its own value, so the twin overwrites the pair's
+/// contact points before each solve).
 struct RigidSettings {
   double internal_step = 1e-3;  ///< Bullet's fixed step (s); outputs are sampled at the world's h
   double restitution = 1.0;     ///< body restitution; Bullet multiplies it with the obstacle's
@@ -26,6 +34,8 @@ struct RigidSettings {
   std::vector<double> plane_restitution;
   /// Restitution of each obstacle mesh (index as in RigidWorld::obstacle_meshes); missing are 1.
   std::vector<double> mesh_restitution;
+  /// Restitution of named pairs of bodies, in place of restitution^2; at most one entry a pair.
+  std::vector<BodyPairRestitution> pair_restitution;
   double friction = 0.0;  ///< Coulomb coefficient of every contact (see above)
   double margin = 1e-4;   ///< collision margin (m), at most d_hat (Bullet's 0.04 m default
                           ///< is nearly the cube's half size)
@@ -55,10 +65,32 @@ struct RigidState {
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();       ///< rad/s (world)
 };
 
+/// One side of a contact: a body, a plane or an obstacle mesh (index in RigidWorld's list).
+struct RigidContactSide {
+  enum class Kind { kBody, kPlane, kMesh };
+  Kind kind = Kind::kBody;
+  int index = 0;
+  friend bool operator==(const RigidContactSide& x, const RigidContactSide& y) {
+    return x.kind == y.kind && x.index == y.index;
+  }
+};
+
+/// A pair that touched (a contact point at distance <= 0 when Bullet's solver ran, i.e. one it
+/// applied an impulse to) during the internal steps from output sample `sample` - 1 to `sample`.
+/// `first` is a body; `second` an obstacle or a body with a larger index.
+struct RigidTouch {
+  int sample = 0;
+  RigidContactSide first, second;
+};
+
 /// Simulates the world for `duration` seconds; returns, per body in the world's order, its states
-/// at t = 0, h, 2h, ... (h = world.time_step). Throws rbaa::InputError naming the body or setting
-/// at fault (no bodies, non-positive mass or inertia, bad step or margin, empty obstacle mesh).
+/// at t = 0, h, 2h, ... (h = world.time_step), and, if `touches` is given, every pair that touched
+/// between two samples (once a sample, in sample order). Throws rbaa::InputError naming the body
+/// or setting at fault (no bodies, non-positive mass or inertia, bad step or margin, empty
+/// obstacle mesh, a negative restitution, a pair restitution naming a missing body, one body
+/// twice or one pair twice).
 std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
-                                                    const RigidSettings& settings, double duration);
+                                                    const RigidSettings& settings, double duration,
+                                                    std::vector<RigidTouch>* touches = nullptr);
 
 }  // namespace rbaa

@@ -1,0 +1,234 @@
+// The rigid twin's restitution against obstacle meshes and between pairs of bodies, fitted to the
+// deformable run's first contact episode with each (issue 19 item 5), as the planes' are to their
+// first bounces. Gravity is off in these scenes, so every body's centre-of-mass velocity is
+// constant before and after its one contact in both simulators, and the rebound can be read from
+// the first and last samples, independently of the episode finder under test.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "rbaa/error.hpp"
+#include "rbaa/eval/contact_episodes.hpp"
+#include "rbaa/eval/evaluation.hpp"
+#include "rbaa/geometry/moments.hpp"
+#include "rbaa/rigid/rigid_body.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
+#include "rbaa/scene/simulate.hpp"
+
+namespace rbaa {
+namespace {
+
+std::string dir() { return ::testing::TempDir(); }
+
+// A ball thrown at the floor z = 0, slanting: the floor either the analytic plane or a 2 m square
+// of two triangles in floor.obj. Y = 5e9 at h = 2.5 ms: the deformable rebound is 0.86 (measured;
+// 0.99 at 5 ms), well below the twin's default restitution 1.
+std::string ball_on_floor_yaml(bool mesh_floor) {
+  std::ofstream(dir() + "/floor.obj")
+      << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+  return std::string(
+             "mesh: {shape: sphere, radius: 0.1, target_tets: 400}\n"
+             "object: {position: [0, 0, 0.13], velocity: [0.5, 0, -2.0]}\n") +
+         (mesh_floor ? "obstacles: {meshes: [{file: floor.obj}]}\n"
+                     : "obstacles: {planes: [{normal: [0, 0, 1], offset: 0}]}\n") +
+         "gravity: off\n"
+         "time: {step: 0.0025, duration: 0.12}\n"
+         "reference_material: {Y: 5.0e9, nu: 0.3, rho: 1000}\n"
+         "material_bounds: {Y: [2.5e9, 1.0e11]}\n";
+}
+
+// -v_z(T) / v_z(0): the rebound off the floor of a run without gravity.
+double floor_rebound(const RunTrace& t) { return -t.velocity.back().z() / t.velocity.front().z(); }
+
+TEST(ContactRestitution, TheMeshFloorsFittedRestitutionMakesTheTwinReboundAsTheBaseline) {
+  const Scene scene = parse_scene(ball_on_floor_yaml(true), "ball_on_mesh.yaml", dir());
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField uniform = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0);
+  EvaluationOptions options;
+  options.duration = 0.12;
+  options.time_step = scene.time_step;
+  options.soft_control = false;
+  const Evaluation ev = evaluate(scene, mesh, mesh, uniform, options);
+
+  ASSERT_EQ(ev.calibrations.size(), 1u);
+  const RestitutionCalibration& c = ev.calibrations[0];
+  EXPECT_EQ(c.contact, RestitutionContact::kMesh);
+  EXPECT_EQ(c.name, "mesh floor");
+  EXPECT_EQ(c.mesh, 0);
+  ASSERT_TRUE(c.calibrated);
+  const double deformable = floor_rebound(ev.deformable_reference);
+  const double rigid = floor_rebound(ev.rigid_reference);
+  std::printf(
+      "mesh floor: deformable rebound %.6f (episode %.6f), rigid %.6f with restitution "
+      "%.6f after %d rigid runs\n",
+      deformable, c.deformable_rebound, rigid, c.restitution, c.iterations);
+  // Without the fit the twin would rebound at 1: the scene must be able to tell.
+  EXPECT_LT(deformable, 0.95);
+  // The episode reads the run's velocity 5 steps after the contact, as the planes' bounces do;
+  // BDF-2's centre-of-mass velocity approaches its free-flight value by a factor 1/3 a step, so
+  // that reading is the final one to 1e-3 (measured 4e-6 here). The twin's rebound (constant
+  // after its one contact: gravity is off) meets the target to the fit's tolerance, 1e-3.
+  EXPECT_NEAR(c.deformable_rebound, deformable, 1e-3 * deformable);
+  EXPECT_NEAR(rigid, c.deformable_rebound, 1e-3 * c.deformable_rebound);
+  EXPECT_NEAR(c.rigid_rebound, rigid, 1e-12);
+
+  const std::string out = dir() + "/rbaa_mesh_restitution_" + std::to_string(::getpid());
+  write_evaluation(ev, scene, out);
+  std::ifstream in(out + "/report.json");
+  const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["calibration"][0]["contact"], "mesh floor");
+  EXPECT_EQ(report["calibration"][0]["kind"], "mesh");
+  EXPECT_DOUBLE_EQ(report["calibration"][0]["restitution"].get<double>(), c.restitution);
+  std::ifstream summary(out + "/summary.md");
+  const std::string text((std::istreambuf_iterator<char>(summary)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("| mesh floor |"), std::string::npos);
+}
+
+// The mesh floor's episode is the analytic floor's bounce (same d_hat, same flat surface), and
+// a sphere's fitted restitutions agree: the rebound of a sphere is its restitution.
+TEST(ContactRestitution, AMeshFloorsEpisodeAndRestitutionAreThePlanes) {
+  const Scene on_mesh = parse_scene(ball_on_floor_yaml(true), "ball_on_mesh.yaml", dir());
+  const Scene on_plane = parse_scene(ball_on_floor_yaml(false), "ball_on_plane.yaml", dir());
+  const TetMesh mesh = make_scene_mesh(on_mesh);
+  const MaterialField uniform = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0);
+  const SimulationRun mesh_run = run_simulation(on_mesh, mesh, uniform);
+  const SimulationRun plane_run = run_simulation(on_plane, mesh, uniform);
+  const std::vector<ContactEpisode> episodes =
+      first_contact_episodes(mesh_run, on_mesh.obstacle_meshes, on_mesh.planes, on_mesh.d_hat);
+  ASSERT_EQ(episodes.size(), 1u);
+  ASSERT_EQ(plane_run.bounces.size(), 1u);
+  const ContactEpisode& e = episodes[0];
+  EXPECT_EQ(e.kind, ContactEpisode::Kind::kMesh);
+  EXPECT_TRUE(e.complete);
+  EXPECT_EQ(e.first_step, plane_run.bounces[0].first_step);
+  EXPECT_EQ(e.last_step, plane_run.bounces[0].last_step);
+  EXPECT_LT((e.normal - Eigen::Vector3d::UnitZ()).norm(), 1e-9);
+
+  const RigidMassProperties mass = rigid_mass_properties(compute_moments(mesh, 1000.0));
+  const RigidShape shape = rigid_shape_from_surface(mesh);
+  const RestitutionCalibration m = calibrate_contact_restitution(
+      mesh_run, e, mass, shape, on_mesh, RigidSettings{}, on_mesh.duration, 1e-6);
+  const RestitutionCalibration p =
+      calibrate_restitution(mass, shape, on_plane, RigidSettings{}, on_plane.duration, 0,
+                            plane_run.bounces[0].restitution, 1e-6);
+  std::printf("sphere: mesh restitution %.9f (rebound %.9f), plane %.9f (rebound %.9f)\n",
+              m.restitution, m.deformable_rebound, p.restitution, p.deformable_rebound);
+  ASSERT_TRUE(m.calibrated);
+  ASSERT_TRUE(p.calibrated);
+  // The two deformable runs differ by round-off (issue 19: within 1e-6 of the path), the twins
+  // meet a flat floor either way.
+  EXPECT_NEAR(m.deformable_rebound, p.deformable_rebound, 1e-5);
+  EXPECT_NEAR(m.restitution, p.restitution, 1e-4);
+}
+
+// Two balls colliding head-on in free space: the pair's fitted restitution makes the rigid balls
+// rebound from each other as the deformable ones do. The rebound is measured along each run's own
+// impulse: the coarse balls' facets turn the deformable one off the line of centres (measured
+// 0.17 m/s sideways for 3 m/s closing), which the rigid spheres cannot do whatever their
+// restitution.
+std::string two_balls_yaml() {
+  return "mesh: {shape: sphere, radius: 0.05, target_tets: 300}\n"
+         "object: {position: [0, 0, 0], velocity: [0, 2.0, 0]}\n"
+         "bodies:\n"
+         "  - name: other\n"
+         "    mesh: {shape: sphere, radius: 0.05, target_tets: 300}\n"
+         "    position: [0, 0.13, 0]\n"
+         "    velocity: [0, -1.0, 0]\n"
+         "gravity: off\n"
+         "time: {step: 0.002, duration: 0.08}\n"
+         "reference_material: {Y: 5.0e9, nu: 0.3, rho: 1000}\n"
+         "material_bounds: {Y: [2.5e9, 1.0e11]}\n";
+}
+
+TEST(ContactRestitution, ThePairsFittedRestitutionMakesTheTwinBallsLeaveAsTheDeformableOnes) {
+  const Scene scene = parse_scene(two_balls_yaml(), "two_balls.yaml", dir());
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField uniform = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0);
+  const SimulationRun run = run_simulation(scene, mesh, uniform);
+  const std::vector<ContactEpisode> episodes =
+      first_contact_episodes(run, scene.obstacle_meshes, scene.planes, scene.d_hat);
+  ASSERT_EQ(episodes.size(), 1u);
+  const ContactEpisode& e = episodes[0];
+  EXPECT_EQ(e.kind, ContactEpisode::Kind::kBodies);
+  EXPECT_EQ(e.body, 0);
+  EXPECT_EQ(e.other, 1);
+  ASSERT_TRUE(e.complete);
+
+  const SceneWorld world = make_world(scene, mesh);
+  const MaterialField all = world.materials(uniform);
+  const std::vector<RigidBody> further =
+      rigid_bodies(world.mesh, std::vector<Body>(world.bodies.begin() + 1, world.bodies.end()),
+                   all.effective_density());
+  const RigidMassProperties mass = rigid_mass_properties(compute_moments(mesh, 1000.0));
+  const RigidShape shape = rigid_shape_from_surface(mesh);
+  const double tolerance = 1e-3;
+  const RestitutionCalibration c = calibrate_contact_restitution(
+      run, e, mass, shape, scene, RigidSettings{}, scene.duration, tolerance, further);
+  ASSERT_TRUE(c.calibrated);
+  EXPECT_EQ(c.name, "bodies object-other");
+
+  // Every body's first and final velocity, deformable and rigid (the fitted pair restitution);
+  // the rebound of the relative velocity w along the run's own impulse w_T - w_0.
+  RigidSettings fitted;
+  fitted.pair_restitution = {{0, 1, c.restitution}};
+  const auto states = simulate_rigid_bodies(mass, shape, scene, fitted, scene.duration, further);
+  const auto deformable_velocity = [&](int b, int k) {
+    const Body& body = run.bodies.at(b);
+    return centre_of_mass(
+        run.trajectory.velocity(k).segment(3 * body.vertex_begin, 3 * body.num_vertices()),
+        run.vertex_masses.segment(body.vertex_begin, body.num_vertices()));
+  };
+  const auto rebound = [](const Eigen::Vector3d& w0, const Eigen::Vector3d& w1) {
+    const Eigen::Vector3d n = (w1 - w0).normalized();
+    return -w1.dot(n) / w0.dot(n);
+  };
+  const int last = static_cast<int>(run.trajectory.q.size()) - 1;
+  const Eigen::Vector3d dw0 = deformable_velocity(0, 0) - deformable_velocity(1, 0);
+  const Eigen::Vector3d dw1 = deformable_velocity(0, last) - deformable_velocity(1, last);
+  const Eigen::Vector3d rw0 = states[0].front().velocity - states[1].front().velocity;
+  const Eigen::Vector3d rw1 = states[0].back().velocity - states[1].back().velocity;
+  const double deformable = rebound(dw0, dw1), rigid = rebound(rw0, rw1);
+  const double turn = std::atan2((dw1 - dw0).cross(rw1 - rw0).norm(), (dw1 - dw0).dot(rw1 - rw0));
+  std::printf(
+      "two balls: deformable rebound %.6f (episode %.6f), rigid %.6f with restitution "
+      "%.6f after %d runs; the impulses %.2f deg apart\n",
+      deformable, c.deformable_rebound, rigid, c.restitution, c.iterations, turn * 180 / M_PI);
+  EXPECT_LT(deformable, 0.95);  // restitution 1 would be caught
+  // The episode's reading (5 steps after the contact) is the final one to BDF-2's settling, and
+  // the twin meets it to the fit's tolerance, 1e-3.
+  EXPECT_NEAR(c.deformable_rebound, deformable, 1e-3 * deformable);
+  EXPECT_NEAR(rigid, deformable, 2e-3 * deformable);
+  EXPECT_NEAR(c.rigid_rebound, rigid, 1e-9);
+  // Momentum is shared as in the deformable run: equal balls, so each ball's velocity along the
+  // line of centres (y) is the other's mirror about the common 0.5 m/s, in both runs.
+  EXPECT_NEAR(states[0].back().velocity.y() + states[1].back().velocity.y(), 1.0, 1e-6);
+}
+
+TEST(ContactRestitution, ABadEpisodeIsOneLineNamingTheScene) {
+  const Scene scene = parse_scene(two_balls_yaml(), "two_balls.yaml", dir());
+  SimulationRun run;
+  ContactEpisode e;
+  e.kind = ContactEpisode::Kind::kMesh;  // the scene has no meshes
+  try {
+    calibrate_contact_restitution(run, e, RigidMassProperties{}, RigidShape{}, scene,
+                                  RigidSettings{}, 0.1, 1e-3);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& err) {
+    const std::string what = err.what();
+    EXPECT_NE(what.find("two_balls.yaml"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  EXPECT_THROW(first_contact_episodes(run, {}, {}, 0.0), InputError);
+}
+
+}  // namespace
+}  // namespace rbaa
