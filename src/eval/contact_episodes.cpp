@@ -140,7 +140,9 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
     whole.element_end = run.mesh.num_tets();
     bodies.push_back(whole);
   }
-  const int num_positions = static_cast<int>(run.trajectory.q.size());
+  // On the grid of h, like the traces the episodes index (contact-resolving sub-steps left out).
+  const std::vector<int> frames = run.trajectory.grid_frames();
+  const int num_positions = static_cast<int>(frames.size());
   const std::vector<BodySurface> surfaces = body_surfaces(run.mesh, bodies);
   std::vector<contact::StaticMeshBroadPhase> obstacles;
   for (const ObstacleMesh& m : meshes) {
@@ -163,7 +165,7 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
 
   const double d2_hat = d_hat * d_hat;
   for (int k = 0; k < num_positions; ++k) {
-    const Eigen::VectorXd& q = run.trajectory.q[k];
+    const Eigen::VectorXd& q = run.trajectory.q[frames[k]];
     const Positions P = Eigen::Map<const Positions>(q.data(), q.size() / 3, 3);
     std::vector<contact::Aabb> boxes;
     for (size_t b = 0; b < bodies.size(); ++b) {

@@ -454,7 +454,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
                  : MassModel::kConsistent;
     s.contact_substeps = t.integer("contact_substeps", 0, 0, 1024);
     if (s.contact_substeps == 1 || (s.contact_substeps & (s.contact_substeps - 1)) != 0) {
-      t.fail(top.child("time"), "contact_substeps", "not 0 (off) or a power of two from 2 to 1024");
+      t.fail(t.child("contact_substeps"), "contact_substeps", "not 0 (off) or a power of two from 2 to 1024");
     }
     t.finish();
   }
