@@ -490,6 +490,7 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
         {"project_moments", scene.project_moments},
         {"polish_iterations", scene.polish_iterations},
         {"time_step", scene.time_step},
+        {"contact_substeps", scene.contact_substeps},
         {"duration", scene.duration}}},
       {"mesh",
        {{"tets", r.mesh.num_tets()},

@@ -1,6 +1,6 @@
 // The adjoint through contact-resolving steps (variable-step BDF-2, bdf.hpp) against central
 // finite differences: the thrown ball of diff_fixtures.hpp with 4 sub-steps around its contact,
-// every material field together and the initial state. The step schedule is fixed by the forward
+// every material field together (frictionless and with mu = 0.5) and the initial state. The step schedule is fixed by the forward
 // run (which steps were refined), as any adaptive integrator's; the differences are taken at
 // perturbations small enough not to change it, which the test checks.
 
@@ -24,8 +24,7 @@ test::ThrownBall resolving_ball() {
   return b;
 }
 
-TEST(ContactResolvingGradient, MaterialsMatchFiniteDifferences) {
-  const test::ThrownBall b = resolving_ball();
+void expect_material_gradient(const test::ThrownBall& b, const char* label) {
   Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
   const Trajectory reference = ref.run(b.q0, b.v0);
   auto objective = UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, reference.q.back());
@@ -42,8 +41,8 @@ TEST(ContactResolvingGradient, MaterialsMatchFiniteDifferences) {
   check.directions = 2;
   const GradientCheckResult r = check_gradient(f, ds.initial_theta(true), check);
   const Trajectory& t = f.last().trajectory;
-  std::printf("contact-resolving adjoint: %d steps for %d of h (%d shorter), contact steps %d, "
-              "|g| %.3e, relative errors", t.num_steps(), b.settings.num_steps,
+  std::printf("%s: %d steps for %d of h (%d shorter), contact steps %d, "
+              "|g| %.3e, relative errors", label, t.num_steps(), b.settings.num_steps,
               t.resolving.refined_steps, r.active_contact_steps, r.gradient_norm);
   for (const DirectionCheck& d : r.directions) std::printf(" %.2e", d.relative_error);
   std::printf("\n");
@@ -54,6 +53,17 @@ TEST(ContactResolvingGradient, MaterialsMatchFiniteDifferences) {
   EXPECT_GT(r.gradient_norm, 0);
   EXPECT_LE(r.max_relative_error, kBar);
   EXPECT_EQ(f.last().adjoint.rebuilt_factorizations, 0);
+}
+
+TEST(ContactResolvingGradient, MaterialsMatchFiniteDifferences) {
+  expect_material_gradient(resolving_ball(), "contact-resolving adjoint");
+}
+
+// Lagged friction (mu = 0.5) takes each step's own rule: x~ = a0 q_n + a1 q_{n-1} and eps_v b.
+TEST(ContactResolvingGradient, WithFrictionMatchesFiniteDifferences) {
+  test::ThrownBall b = resolving_ball();
+  b.settings.planes[0].friction = 0.5;
+  expect_material_gradient(b, "contact-resolving adjoint, friction");
 }
 
 // dC/dq_0 and dC/dv_0 through variable steps, against central differences of whole runs.
