@@ -120,6 +120,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         {"predicate", predicate_kind_name(demo.predicate.kind)},
         {"figure", demo.figure.empty() ? nlohmann::json(nullptr) : nlohmann::json(demo.figure)},
         {"figure_body", demo.figure_body},
+        {"figure_against", demo.figure_against_own_simulator ? "own_simulator" : "rigid_reference"},
+        {"figure_projection", demo.figure_horizontal ? "horizontal" : "none"},
         {"runs", nlohmann::json::array()}};
     for (const DemonstrationOutcome& o : ev.outcomes) {
       outcomes["runs"].push_back({{"run", o.run},
@@ -200,7 +202,12 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
           << (demo.figure.empty()
                   ? std::string()
                   : "; figure: the angle between the final centre-of-mass velocity of body '" +
-                        demo.figure_body + "' and the rigid reference's (deg)")
+                        demo.figure_body + "' and " +
+                        (demo.figure_against_own_simulator ? "the same simulator's reference run's"
+                                                           : "the rigid reference's") +
+                        (demo.figure_horizontal ? ", both projected onto the horizontal plane"
+                                                : "") +
+                        " (deg)")
           << ".\n\n| run | predicate | figure (deg) | why |\n|---|---|---|---|\n";
       for (const DemonstrationOutcome& o : ev.outcomes) {
         out << "| " << o.run << " | "
