@@ -79,7 +79,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     }
     series.push_back(std::move(s));
   }
-  const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths", series, scene.planes);
+  const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths",
+                                          series, scene.planes, scene.obstacle_meshes);
   const std::string materials_png =
       ev.adversarial_mesh.num_tets() == 0
           ? std::string()
