@@ -502,7 +502,7 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
       trace_from_rigid("rigid adversarial", rigid_adv.at(traced), seconds_since(start));
   if (scene_in.demonstration.enabled) {
     const std::vector<BodyPath> adversarial_paths = paths_from_deformable(scene_in, adversarial);
-    const std::vector<DemonstrationRun> runs = {
+    std::vector<DemonstrationRun> runs = {
         {"rigid reference", "rigid", "reference", chosen.rigid_paths},
         {"rigid adversarial", "rigid", "adversarial",
          paths_from_rigid(rigid_adv, adversarial_paths)},
@@ -512,6 +512,15 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
         {"deformable adversarial", "deformable", "adversarial", adversarial_paths},
         {"deformable soft control", "deformable", "soft control", soft_paths}};
     ev.outcomes = demonstration_outcomes(scene_in.demonstration, runs, scene_in.gravity);
+    if (scene_in.demonstration.predicate.kind == PredicateSpec::Kind::kStands) {
+      // Rest shapes from the reference's world (the adversarial object has the same surface).
+      for (size_t i = 0; i < world.bodies.size(); ++i) {
+        const Body& b = world.bodies[i];
+        ev.body_shapes.push_back({i == 0 ? std::string("object") : scene_in.bodies.at(i - 1).name,
+                                  world.mesh.V.middleRows(b.vertex_begin, b.num_vertices())});
+      }
+      ev.demonstration_runs = std::move(runs);
+    }
   }
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);

@@ -7,6 +7,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
+#include "rbaa/eval/final_poses_plot.hpp"
 #include "rbaa/eval/material_sections.hpp"
 #include "rbaa/eval/path_plot.hpp"
 #include "rbaa/io/atomic_file.hpp"
@@ -81,6 +82,13 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   }
   const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths",
                                           series, scene.planes, scene.obstacle_meshes);
+  // A stack's verdict is where the bodies end: a panel per run with every body's final outline.
+  const std::string poses_png =
+      ev.demonstration_runs.empty()
+          ? std::string()
+          : write_final_poses_plot(dir + "/final_poses",
+                                   scene.name + ": every body at T = " + fmt(ev.duration) + " s",
+                                   ev.body_shapes, ev.demonstration_runs, scene.planes);
   const std::string materials_png =
       ev.adversarial_mesh.num_tets() == 0
           ? std::string()
@@ -173,7 +181,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"files", files},
       {"plot", png.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(png).filename().string())},
       {"materials_plot", materials_png.empty() ? nlohmann::json(nullptr)
-                                               : nlohmann::json(std::filesystem::path(materials_png).filename().string())}};
+                                               : nlohmann::json(std::filesystem::path(materials_png).filename().string())},
+      {"final_poses_plot", poses_png.empty() ? nlohmann::json(nullptr)
+                                             : nlohmann::json(std::filesystem::path(poses_png).filename().string())}};
   write_file_atomically(dir + "/report.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 
   write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
@@ -282,6 +292,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "| run | wall time (s) | CSV |\n|---|---|---|\n";
     for (const RunTrace* t : runs) out << "| " << t->name << " | " << fmt(t->seconds) << " | " << file_name(*t) << " |\n";
     if (!png.empty()) out << "\n![paths](paths.png)\n";
+    if (!poses_png.empty())
+      out << "\nEvery body at the end of each run (side view):\n\n![final poses](final_poses.png)\n";
     if (!materials_png.empty()) {
       out << "\nThe adversarial object's Young's modulus, density and occupancy on the three coordinate planes "
              "through its centre of mass:\n\n![materials](adversarial_materials.png)\n";

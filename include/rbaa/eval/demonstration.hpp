@@ -26,6 +26,12 @@ struct BodyPath {
   double bounding_radius = 0;
 };
 
+/// A body's rest shape: its name (as in BodyPath) and its vertices at t = 0 (world, #V by 3).
+struct BodyShape {
+  std::string name;
+  Eigen::MatrixXd V;
+};
+
 /// Largest distance of a vertex (rows of V, #V by 3) from `centre` (m).
 double bounding_radius(const Eigen::MatrixXd& V, const Eigen::Vector3d& centre);
 
