@@ -72,11 +72,18 @@ PlotView plot_view(const std::vector<PathSeries>& series, double straight_ratio,
   const double cos_tol = std::cos(coordinate_deg * M_PI / 180.0);
   if (normal.cwiseAbs().maxCoeff() >= cos_tol) return view;  // a coordinate plane
   if (std::abs(normal.z()) > std::sin(coordinate_deg * M_PI / 180.0)) return view;  // not vertical
-  // A vertical plane of motion: u its horizontal direction, the larger of its x and y positive.
+  // A vertical plane of motion: u its horizontal direction, pointing the way the first path
+  // travels (it starts on the left).
   Eigen::Vector3d u = Eigen::Vector3d::UnitZ().cross(normal);
   u.z() = 0;
   u.normalize();
-  if (std::abs(u.x()) >= std::abs(u.y()) ? u.x() < 0 : u.y() < 0) u = -u;
+  for (const auto& s : series) {
+    if (s.points.rows() < 2) continue;
+    const Eigen::Vector3d travel =
+        (s.points.row(s.points.rows() - 1) - s.points.row(0)).transpose();
+    if (u.dot(travel) < 0) u = -u;
+    break;
+  }
   view.u = u;
   view.v = Eigen::Vector3d::UnitZ();
   view.horizontal = -1;
@@ -270,7 +277,7 @@ std::string write_path_plot(const std::string& stem, const std::string& title,
     }
     if (any_section) {
       out << (series.empty() ? "" : ", ") << "'" << base
-          << "_obstacles.dat' using 1:2 with lines lw 2 lc rgb '#505050' title 'obstacles "
+          << "_obstacles.dat' using 1:2 with lines lw 3 lc rgb '#505050' title 'obstacles "
              "(sections)'";
     }
     out << "\n";

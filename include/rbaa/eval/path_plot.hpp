@@ -25,10 +25,11 @@ std::pair<int, int> plot_axes(const std::vector<PathSeries>& series);
 /// width, v along its height, both unit and orthogonal. Usually u and v are the coordinate axes
 /// of plot_axes. When the paths lie in no coordinate plane but in a vertical one (the ball thrown
 /// diagonally at the board: the best-fit plane's normal is more than `coordinate_deg` from every
-/// axis and within it of horizontal), u is that plane's horizontal direction and v is +z: a side
-/// view in the plane of motion. When the paths run along one axis (the second-widest spread is at
-/// most `straight_ratio` of the widest; a cube bouncing between a floor and a ceiling), the view
-/// is that coordinate against time, where the runs' differences are visible.
+/// axis and within it of horizontal), u is that plane's horizontal direction, pointing the way
+/// the first path travels, and v is +z: a side view in the plane of motion. When the paths run
+/// along one axis (the second-widest spread is at most `straight_ratio` of the widest; a cube
+/// bouncing between a floor and a ceiling), the view is that coordinate against time, where the
+/// runs' differences are visible.
 struct PlotView {
   bool time_axis = false;
   int horizontal = 1;  ///< coordinate axis along the picture's width, or -1 (u is oblique)
