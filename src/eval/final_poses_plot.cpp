@@ -76,26 +76,62 @@ std::string write_final_poses_plot(const std::string& stem, const std::string& t
   const auto [a, b] = plot_axes(every_path);
   const Eigen::Vector3d u = Eigen::Vector3d::Unit(a), v = Eigen::Vector3d::Unit(b);
   const char* names = "xyz";
+  // The scene as set up: a body that ends farther from the initial centres' mean than the
+  // farthest initial centre plus two body sizes has left it (a striker knocked 1.5 m away) and
+  // is named in its panel instead of shrinking every other body to a dot.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const DemonstrationRun* r : made) {
+    for (const BodyPath& p : r->paths) {
+      if (p.centre.empty()) continue;
+      mean += p.centre.front();
+      ++count;
+    }
+  }
+  mean /= std::max(count, 1);
+  double reach = 0, size = 0;
+  for (const DemonstrationRun* r : made) {
+    for (const BodyPath& p : r->paths) {
+      if (!p.centre.empty()) reach = std::max(reach, (p.centre.front() - mean).norm());
+    }
+  }
+  for (const BodyShape& shape : shapes) {
+    const Eigen::Vector3d c = shape.V.colwise().mean().transpose();
+    size = std::max(size, bounding_radius(shape.V, c));
+  }
+  reach += 4 * size;
   Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
   const std::string base = std::filesystem::path(stem).filename().string();
-  std::vector<std::vector<std::string>> drawn(made.size());  // bodies drawn per panel
+  std::vector<std::vector<size_t>> drawn(made.size());      // shapes drawn per panel
+  std::vector<std::vector<std::string>> away(made.size());  // labels of those that left
   for (size_t r = 0; r < made.size(); ++r) {
     write_file_atomically(stem + "_" + std::to_string(r) + ".dat", [&](std::ostream& out) {
-      for (const BodyShape& shape : shapes) {
-        const Eigen::MatrixXd hull =
-            final_outline(shape, find_path(made[r]->paths, shape.name), u, v);
+      for (size_t i = 0; i < shapes.size(); ++i) {
+        const BodyPath& path = find_path(made[r]->paths, shapes[i].name);
+        const Eigen::MatrixXd hull = final_outline(shapes[i], path, u, v);
         if (hull.rows() == 0) continue;
-        out << "# " << shape.name << " at the end of " << made[r]->run << "\n";
-        for (Eigen::Index i = 0; i <= hull.rows(); ++i) {
-          const Eigen::Vector2d q = hull.row(i % hull.rows()).transpose();
+        const Eigen::Vector3d end = path.centre.back();
+        if ((end - mean).norm() > reach) {
+          away[r].push_back(shapes[i].name + " ends off the picture at " + names[a] + " = " +
+                            format_significant(end[a], 3) + ", " + names[b] + " = " +
+                            format_significant(end[b], 3) + " m");
+          continue;
+        }
+        out << "# " << shapes[i].name << " at the end of " << made[r]->run << "\n";
+        for (Eigen::Index k = 0; k <= hull.rows(); ++k) {
+          const Eigen::Vector2d q = hull.row(k % hull.rows()).transpose();
           out << exact(q.x()) << " " << exact(q.y()) << "\n";
           lo = lo.cwiseMin(q);
           hi = hi.cwiseMax(q);
         }
         out << "\n\n";
-        drawn[r].push_back(shape.name);
+        drawn[r].push_back(i);
       }
     });
+  }
+  if (!(lo.array() <= hi.array()).all()) {  // nothing drawn anywhere
+    lo.setZero();
+    hi.setOnes();
   }
   // Planes normal to the picture's vertical (a floor) extend it down to themselves.
   for (const Plane& p : planes) {
@@ -105,18 +141,26 @@ std::string write_final_poses_plot(const std::string& stem, const std::string& t
       hi[1] = std::max(hi[1], level);
     }
   }
-  const Eigen::Vector2d pad = 0.08 * (hi - lo).cwiseMax(1e-3);
+  const Eigen::Vector2d pad = 0.08 * Eigen::Vector2d::Constant((hi - lo).maxCoeff()).cwiseMax(1e-3);
   lo -= pad;
   hi += pad;
+  hi[1] += 0.15 * (hi - lo).maxCoeff();  // room for the labels of bodies that left
   const int columns = made.size() > 4 ? 3 : std::max<int>(1, std::min<int>(2, made.size()));
   const int rows = std::max<int>(1, (static_cast<int>(made.size()) + columns - 1) / columns);
+  // Panels at the picture's aspect (equal scales), 450 px wide, within reason.
+  const double aspect = std::clamp((hi[1] - lo[1]) / (hi[0] - lo[0]), 0.3, 1.5);
+  const int panel_h = static_cast<int>(450 * aspect) + 90;
   const char* colours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b"};
   write_file_atomically(stem + ".gp", [&](std::ostream& out) {
-    out << "set terminal pngcairo size " << 450 * columns << "," << 420 * rows + 40
+    out << "set terminal pngcairo size " << 450 * columns << "," << panel_h * rows + 70
         << " noenhanced\nset output '" << base << ".png'\n"
         << "set multiplot layout " << rows << "," << columns << " title '" << gnuplot_quoted(title)
         << "'\nset xlabel '" << names[a] << " (m)'\nset ylabel '" << names[b] << " (m)'\n"
-        << "set size ratio -1\nset grid\nset key inside top right opaque box\n"
+        << "set size ratio -1\nset grid\n"
+        // One legend for every panel, inside the canvas under the title (the colours are the
+        // bodies', the same in each panel).
+        << "set key at screen 0.5, screen " << 1.0 - 30.0 / (panel_h * rows + 70)
+        << " center top horizontal box\n"
         << "set xrange [" << lo[0] << ":" << hi[0] << "]\nset yrange [" << lo[1] << ":" << hi[1]
         << "]\nset style fill transparent solid 0.5 border\n";
     int arrow = 1;
@@ -133,14 +177,26 @@ std::string write_final_poses_plot(const std::string& stem, const std::string& t
       }
     }
     for (size_t r = 0; r < made.size(); ++r) {
-      out << "set title '" << gnuplot_quoted(made[r]->run) << "'\n"
-          << (r == 0 ? "" : "unset key\n") << "plot ";
-      for (size_t i = 0; i < drawn[r].size(); ++i) {
-        out << (i ? ", " : "") << "'" << base << "_" << r << ".dat' index " << i
-            << " using 1:2 with filledcurves closed lc rgb '" << colours[i % 6] << "' title '"
-            << gnuplot_quoted(drawn[r][i]) << "'";
+      out << "set title '" << gnuplot_quoted(made[r]->run) << "'\nunset label\n";
+      for (size_t k = 0; k < away[r].size(); ++k) {
+        out << "set label " << k + 1 << " '" << gnuplot_quoted(away[r][k])
+            << "' at graph 0.02, graph " << 0.95 - 0.06 * k << " front font ',9'\n";
       }
-      if (drawn[r].empty()) out << "NaN notitle";
+      out << (r == 0 ? "" : "unset key\n") << "plot ";
+      for (size_t k = 0; k < drawn[r].size(); ++k) {
+        out << (k ? ", " : "") << "'" << base << "_" << r << ".dat' index " << k
+            << " using 1:2 with filledcurves closed lc rgb '" << colours[drawn[r][k] % 6]
+            << "' title '" << gnuplot_quoted(shapes[drawn[r][k]].name) << "'";
+      }
+      if (r == 0) {  // the first panel's key names every body, drawn there or not
+        for (size_t i = 0; i < shapes.size(); ++i) {
+          if (std::count(drawn[r].begin(), drawn[r].end(), i)) continue;
+          out << (drawn[r].empty() && i == 0 ? "" : ", ") << "keyentry with filledcurves lc rgb '"
+              << colours[i % 6] << "' title '" << gnuplot_quoted(shapes[i].name) << "'";
+        }
+      } else if (drawn[r].empty()) {
+        out << "NaN notitle";
+      }
       out << "\n";
     }
     out << "unset multiplot\n";

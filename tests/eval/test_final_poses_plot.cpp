@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -92,7 +93,12 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
       {"deformable adversarial",
        "deformable",
        "adversarial",
-       {moved("bottom", low, low, 0), moved("middle", high, Eigen::Vector3d(0, 0.06, 0.026), 90)}}};
+       {moved("bottom", low, low, 0), moved("middle", high, Eigen::Vector3d(0, 0.06, 0.026), 90)}},
+      // Knocked 2 m away: named, not drawn, so the others keep their size.
+      {"deformable soft control",
+       "deformable",
+       "soft control",
+       {moved("bottom", low, low, 0), moved("middle", high, Eigen::Vector3d(0, 2, 0.026), 90)}}};
   const std::vector<Plane> ground = {Plane{Eigen::Vector3d::UnitZ(), 0.0}};
   write_final_poses_plot(dir + "/poses", "stack", shapes, runs, ground);
 
@@ -100,7 +106,7 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
   std::stringstream script;
   script << gp.rdbuf();
   const std::string s = script.str();
-  EXPECT_NE(s.find("set multiplot layout 1,2"), std::string::npos) << s;
+  EXPECT_NE(s.find("set multiplot layout 2,2"), std::string::npos) << s;
   EXPECT_NE(s.find("set title 'rigid reference'"), std::string::npos) << s;
   EXPECT_NE(s.find("set title 'deformable adversarial'"), std::string::npos) << s;
   EXPECT_EQ(s.find("set title 'rigid adversarial'"), std::string::npos) << s;
@@ -108,6 +114,15 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
   EXPECT_NE(s.find("set arrow 1 from"), std::string::npos) << s;  // the ground
   EXPECT_NE(s.find("'poses_1.dat' index 1 using 1:2 with filledcurves closed"), std::string::npos)
       << s;
+  EXPECT_NE(s.find("middle ends off the picture at y = 2, z = 0.026 m"), std::string::npos) << s;
+  EXPECT_EQ(s.find("'poses_2.dat' index 1"), std::string::npos) << s;
+  // The view holds the stack, not the far cube: y within a few cube sizes of the start.
+  const size_t xr = s.find("set xrange [");
+  ASSERT_NE(xr, std::string::npos);
+  double y_lo = 0, y_hi = 0;
+  ASSERT_EQ(std::sscanf(s.c_str() + xr, "set xrange [%lf:%lf]", &y_lo, &y_hi), 2);
+  EXPECT_GT(y_lo, -0.2);
+  EXPECT_LT(y_hi, 0.2);
 
   // The toppled panel's middle cube: a closed square (5 rows) about (0.06, 0.026).
   std::ifstream data(dir + "/poses_1.dat");

@@ -22,10 +22,13 @@ Eigen::MatrixXd convex_hull_2d(const Eigen::MatrixXd& points);
 Eigen::MatrixXd final_outline(const BodyShape& shape, const BodyPath& path,
                               const Eigen::Vector3d& u, const Eigen::Vector3d& v);
 
-/// Writes `stem`.gp, `stem`_<run>.dat (one block per body: its final outline, closed) and, if
-/// gnuplot is installed, renders `stem`.png: a panel per run that was made, the same scale in
-/// each, the side view of plot_axes over every body's path (the coordinate plane they spread in
-/// most), each plane drawn as its trace. Returns the PNG path or "" (no gnuplot).
+/// Writes `stem`.gp, `stem`_<run>.dat (one block per body drawn: its final outline, closed)
+/// and, if gnuplot is installed, renders `stem`.png: a panel per run that was made, the same
+/// scale in each, the side view of plot_axes over every body's path (the coordinate plane they
+/// spread in most), each plane drawn as its trace, one legend under the title. A body that ends
+/// farther from the mean of the initial centres than the farthest initial centre plus four body
+/// radii has left the scene (a striker knocked away): its panel names where it is instead of
+/// drawing it, so the others keep their size. Returns the PNG path or "" (no gnuplot).
 std::string write_final_poses_plot(const std::string& stem, const std::string& title,
                                    const std::vector<BodyShape>& shapes,
                                    const std::vector<DemonstrationRun>& runs,
