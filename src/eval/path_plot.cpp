@@ -130,8 +130,10 @@ std::string axis_label(const Eigen::Vector3d& axis) {
   for (int k = 0; k < 3; ++k) {
     if (std::abs(axis[k]) == 1.0) return std::string(axis[k] < 0 ? "-" : "") + names[k] + " (m)";
   }
-  return "along (" + format_significant(axis.x(), 3) + ", " + format_significant(axis.y(), 3) +
-         ", " + format_significant(axis.z(), 3) + ") (m)";
+  // + 0.0 turns a negative zero (a flipped horizontal direction's z) into 0.
+  return "along (" + format_significant(axis.x() + 0.0, 3) + ", " +
+         format_significant(axis.y() + 0.0, 3) + ", " + format_significant(axis.z() + 0.0, 3) +
+         ") (m)";
 }
 
 // The corner ("top right", ...) whose quarter-sized box holds the fewest of `points` (u, v).

@@ -143,6 +143,7 @@ TEST(PathPlot, TheBallsSideViewDrawsTheBoardAndTheRimsSections) {
   EXPECT_NE(script.find("set key inside"), std::string::npos) << script;
   EXPECT_EQ(script.find("set key outside"), std::string::npos) << script;
   EXPECT_NE(script.find("set xlabel 'along ("), std::string::npos) << script;
+  EXPECT_NE(script.find(", 0) (m)'"), std::string::npos) << script;  // not -0
 
   // Read the sections back, mesh by mesh (a comment line opens each).
   std::ifstream data(dir + "/paths_obstacles.dat");
