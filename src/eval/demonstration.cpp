@@ -30,6 +30,13 @@ double angle_between_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
 
+double projected_angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const Eigen::Vector3d& normal) {
+  if (!(normal.norm() > 0)) return angle_between_deg(a, b);
+  const Eigen::Vector3d n = normal.normalized();
+  return angle_between_deg(a - a.dot(n) * n, b - b.dot(n) * n);
+}
+
 const BodyPath& find_path(const std::vector<BodyPath>& paths, const std::string& name) {
   for (const BodyPath& p : paths) {
     if (p.name == name) return p;
@@ -152,6 +159,41 @@ PredicateOutcome evaluate_predicate(const PredicateSpec& spec, const std::vector
     }
   }
   return {};
+}
+
+std::vector<DemonstrationOutcome> demonstration_outcomes(const DemonstrationSpec& demo,
+                                                         const std::vector<DemonstrationRun>& runs,
+                                                         const Eigen::Vector3d& gravity) {
+  // The reference run of each simulator ("rigid", "deformable"), where it was made.
+  auto reference_of = [&](const std::string& simulator) -> const BodyPath* {
+    for (const DemonstrationRun& r : runs) {
+      if (r.simulator == simulator && r.object == "reference" && !r.paths.empty())
+        return &find_path(r.paths, demo.figure_body);
+    }
+    return nullptr;
+  };
+  const Eigen::Vector3d normal = demo.figure_horizontal ? gravity : Eigen::Vector3d::Zero();
+  std::vector<DemonstrationOutcome> rows;
+  for (const DemonstrationRun& r : runs) {
+    if (r.paths.empty()) continue;
+    DemonstrationOutcome row;
+    row.run = r.run;
+    row.simulator = r.simulator;
+    row.object = r.object;
+    row.has_predicate = demo.predicate.kind != PredicateSpec::Kind::kNone;
+    if (row.has_predicate) row.predicate = evaluate_predicate(demo.predicate, r.paths);
+    row.figure = NAN;
+    const BodyPath* reference =
+        reference_of(demo.figure_against_own_simulator ? r.simulator : "rigid");
+    if (demo.figure == "angle" && reference) {
+      const BodyPath& own = find_path(r.paths, demo.figure_body);
+      if (own.velocity.empty() || reference->velocity.empty())
+        throw InputError("demonstration: body '" + demo.figure_body + "' has no velocities");
+      row.figure = projected_angle_deg(own.velocity.back(), reference->velocity.back(), normal);
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 }  // namespace rbaa

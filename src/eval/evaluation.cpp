@@ -595,39 +595,6 @@ bool uniform_friction(const Scene& scene) {
   return true;
 }
 
-struct NamedPaths {
-  std::string run, simulator, object;
-  std::vector<BodyPath> paths;  ///< empty: the run was not made
-};
-
-// The outcome table: each run's predicate and figure (the angle of figure_body's final velocity
-// to the rigid reference's).
-std::vector<DemonstrationOutcome> demonstration_outcomes(const DemonstrationSpec& demo,
-                                                         const std::vector<NamedPaths>& runs) {
-  std::vector<DemonstrationOutcome> rows;
-  const BodyPath* rigid_reference = nullptr;
-  for (const NamedPaths& r : runs) {
-    if (r.simulator == "rigid" && r.object == "reference")
-      rigid_reference = &find_path(r.paths, demo.figure_body);
-  }
-  for (const NamedPaths& r : runs) {
-    if (r.paths.empty()) continue;
-    DemonstrationOutcome row;
-    row.run = r.run;
-    row.simulator = r.simulator;
-    row.object = r.object;
-    row.has_predicate = demo.predicate.kind != PredicateSpec::Kind::kNone;
-    if (row.has_predicate) row.predicate = evaluate_predicate(demo.predicate, r.paths);
-    row.figure = NAN;
-    if (demo.figure == "angle" && rigid_reference) {
-      row.figure = angle_between_deg(find_path(r.paths, demo.figure_body).velocity.back(),
-                                     rigid_reference->velocity.back());
-    }
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
-
 }  // namespace
 
 Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
@@ -764,16 +731,25 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
       trace_from_rigid("rigid adversarial", rigid_adv.at(traced), seconds_since(start));
   if (scene_in.demonstration.enabled) {
     const std::vector<BodyPath> adversarial_paths = paths_from_deformable(scene_in, adversarial);
-    ev.outcomes = demonstration_outcomes(
-        scene_in.demonstration,
-        {{"rigid reference", "rigid", "reference", chosen.rigid_paths},
-         {"rigid adversarial", "rigid", "adversarial",
-          paths_from_rigid(rigid_adv, adversarial_paths)},
-         {"rigid soft control (the reference's rigid body)", "rigid", "soft control",
-          options.soft_control ? chosen.rigid_paths : std::vector<BodyPath>{}},
-         {"deformable reference", "deformable", "reference", chosen.baseline_paths},
-         {"deformable adversarial", "deformable", "adversarial", adversarial_paths},
-         {"deformable soft control", "deformable", "soft control", soft_paths}});
+    std::vector<DemonstrationRun> runs = {
+        {"rigid reference", "rigid", "reference", chosen.rigid_paths},
+        {"rigid adversarial", "rigid", "adversarial",
+         paths_from_rigid(rigid_adv, adversarial_paths)},
+        {"rigid soft control (the reference's rigid body)", "rigid", "soft control",
+         options.soft_control ? chosen.rigid_paths : std::vector<BodyPath>{}},
+        {"deformable reference", "deformable", "reference", chosen.baseline_paths},
+        {"deformable adversarial", "deformable", "adversarial", adversarial_paths},
+        {"deformable soft control", "deformable", "soft control", soft_paths}};
+    ev.outcomes = demonstration_outcomes(scene_in.demonstration, runs, scene_in.gravity);
+    if (scene_in.demonstration.predicate.kind == PredicateSpec::Kind::kStands) {
+      // Rest shapes from the reference's world (the adversarial object has the same surface).
+      for (size_t i = 0; i < world.bodies.size(); ++i) {
+        const Body& b = world.bodies[i];
+        ev.body_shapes.push_back({i == 0 ? std::string("object") : scene_in.bodies.at(i - 1).name,
+                                  world.mesh.V.middleRows(b.vertex_begin, b.num_vertices())});
+      }
+      ev.demonstration_runs = std::move(runs);
+    }
   }
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);

@@ -7,6 +7,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
+#include "rbaa/eval/final_poses_plot.hpp"
 #include "rbaa/eval/material_sections.hpp"
 #include "rbaa/eval/path_plot.hpp"
 #include "rbaa/io/atomic_file.hpp"
@@ -79,7 +80,15 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     }
     series.push_back(std::move(s));
   }
-  const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths", series, scene.planes);
+  const std::string png = write_path_plot(dir + "/paths", scene.name + ": centre-of-mass paths",
+                                          series, scene.planes, scene.obstacle_meshes);
+  // A stack's verdict is where the bodies end: a panel per run with every body's final outline.
+  const std::string poses_png =
+      ev.demonstration_runs.empty()
+          ? std::string()
+          : write_final_poses_plot(dir + "/final_poses",
+                                   scene.name + ": every body at T = " + fmt(ev.duration) + " s",
+                                   ev.body_shapes, ev.demonstration_runs, scene.planes);
   const std::string materials_png =
       ev.adversarial_mesh.num_tets() == 0
           ? std::string()
@@ -141,6 +150,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         {"predicate", predicate_kind_name(demo.predicate.kind)},
         {"figure", demo.figure.empty() ? nlohmann::json(nullptr) : nlohmann::json(demo.figure)},
         {"figure_body", demo.figure_body},
+        {"figure_against", demo.figure_against_own_simulator ? "own_simulator" : "rigid_reference"},
+        {"figure_projection", demo.figure_horizontal ? "horizontal" : "none"},
         {"runs", nlohmann::json::array()}};
     for (const DemonstrationOutcome& o : ev.outcomes) {
       outcomes["runs"].push_back({{"run", o.run},
@@ -191,7 +202,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"files", files},
       {"plot", png.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(png).filename().string())},
       {"materials_plot", materials_png.empty() ? nlohmann::json(nullptr)
-                                               : nlohmann::json(std::filesystem::path(materials_png).filename().string())}};
+                                               : nlohmann::json(std::filesystem::path(materials_png).filename().string())},
+      {"final_poses_plot", poses_png.empty() ? nlohmann::json(nullptr)
+                                             : nlohmann::json(std::filesystem::path(poses_png).filename().string())}};
   write_file_atomically(dir + "/report.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 
   write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
@@ -223,7 +236,12 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
           << (demo.figure.empty()
                   ? std::string()
                   : "; figure: the angle between the final centre-of-mass velocity of body '" +
-                        demo.figure_body + "' and the rigid reference's (deg)")
+                        demo.figure_body + "' and " +
+                        (demo.figure_against_own_simulator ? "the same simulator's reference run's"
+                                                           : "the rigid reference's") +
+                        (demo.figure_horizontal ? ", both projected onto the horizontal plane"
+                                                : "") +
+                        " (deg)")
           << ".\n\n| run | predicate | figure (deg) | why |\n|---|---|---|---|\n";
       for (const DemonstrationOutcome& o : ev.outcomes) {
         out << "| " << o.run << " | "
@@ -297,6 +315,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "| run | wall time (s) | CSV |\n|---|---|---|\n";
     for (const RunTrace* t : runs) out << "| " << t->name << " | " << fmt(t->seconds) << " | " << file_name(*t) << " |\n";
     if (!png.empty()) out << "\n![paths](paths.png)\n";
+    if (!poses_png.empty())
+      out << "\nEvery body at the end of each run (side view):\n\n![final poses](final_poses.png)\n";
     if (!materials_png.empty()) {
       out << "\nThe adversarial object's Young's modulus, density and occupancy on the three coordinate planes "
              "through its centre of mass:\n\n![materials](adversarial_materials.png)\n";

@@ -92,7 +92,9 @@ std::string write_material_sections(const std::string& stem, const std::string& 
         << "set terminal pngcairo size 1500,1350 font ',10'\nset output '" << base << ".png'\n"
         << "set palette defined (0 '#440154', 0.25 '#3b528b', 0.5 '#21918c', 0.75 '#5ec962', 1 '#fde725')\n"
         << "set size ratio -1\nunset key\nset colorbox\n"
-        << "set multiplot layout 3,3 title '" << gnuplot_quoted(title) << "'\n";
+        // The panels' titles use enhanced text (m^3); the scene's name may hold an underscore,
+        // which enhanced text would set as a subscript.
+        << "set multiplot layout 3,3 title '" << gnuplot_quoted(title) << "' noenhanced\n";
     int block = 0;
     for (const Field& f : fields) {
       double lo = f.values.minCoeff(), hi = f.values.maxCoeff();

@@ -712,6 +712,15 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     }
     demo.figure = d.text("figure", "", {"angle"});
     demo.figure_body = d.text("figure_body", default_body, names);
+    demo.figure_against_own_simulator =
+        d.text("figure_against", "rigid_reference", {"rigid_reference", "own_simulator"}) ==
+        "own_simulator";
+    demo.figure_horizontal =
+        d.text("figure_projection", "none", {"none", "horizontal"}) == "horizontal";
+    if (demo.figure_horizontal && s.gravity.norm() == 0) {
+      d.fail(d.child("figure_projection"), "figure_projection",
+             "horizontal needs gravity (the plane normal to it); this scene has none");
+    }
     d.finish();
     if (demo.predicate.kind == PredicateSpec::Kind::kNone && demo.figure.empty()) {
       d.fail(node, "", "give a predicate, a figure or both");

@@ -172,6 +172,95 @@ TEST(EvaluatePredicate, HoopAndBoxReadTheirBody) {
   EXPECT_FALSE(evaluate_predicate(hoop, {beside, ball}).holds);
 }
 
+// A body flying free under gravity g after leaving at velocity v0 (t = 0): its velocity at t.
+Eigen::Vector3d falling(const Eigen::Vector3d& v0, double t) {
+  return v0 + t * Eigen::Vector3d(0, 0, -9.8);
+}
+
+TEST(ProjectedAngle, TheHorizontalHeadingSurvivesTheFallThe3dAngleDoesNot) {
+  // Two balls leaving 5 deg apart in heading, both level: after 2 s of free fall the 3D angle
+  // between their velocities has shrunk (both now mostly point down), the heading has not.
+  const double a = 5 * M_PI / 180;
+  const Eigen::Vector3d v1(0, 7.5, 0), v2(7.5 * std::sin(a), 7.5 * std::cos(a), 0);
+  const Eigen::Vector3d g(0, 0, -9.8);
+  EXPECT_NEAR(angle_between_deg(v1, v2), 5.0, 1e-12);
+  EXPECT_LT(angle_between_deg(falling(v1, 2), falling(v2, 2)), 2.0);
+  EXPECT_NEAR(projected_angle_deg(falling(v1, 2), falling(v2, 2), g), 5.0, 1e-12);
+  // Without a normal, the plain angle; the normal's length does not matter.
+  EXPECT_EQ(projected_angle_deg(falling(v1, 2), falling(v2, 2), Eigen::Vector3d::Zero()),
+            angle_between_deg(falling(v1, 2), falling(v2, 2)));
+  EXPECT_NEAR(projected_angle_deg(falling(v1, 2), falling(v2, 2), 1e-3 * g), 5.0, 1e-12);
+  // A velocity along the normal has no heading: 0, as for a zero vector.
+  EXPECT_EQ(projected_angle_deg(Eigen::Vector3d(0, 0, -3), v2, g), 0.0);
+}
+
+// Six runs whose figure body leaves in the directions given (deg from +y, in the xy-plane).
+std::vector<DemonstrationRun> six_runs(const std::vector<double>& heading_deg) {
+  const char* names[6][3] = {{"rigid reference", "rigid", "reference"},
+                             {"rigid adversarial", "rigid", "adversarial"},
+                             {"rigid soft control", "rigid", "soft control"},
+                             {"deformable reference", "deformable", "reference"},
+                             {"deformable adversarial", "deformable", "adversarial"},
+                             {"deformable soft control", "deformable", "soft control"}};
+  std::vector<DemonstrationRun> runs;
+  for (int i = 0; i < 6; ++i) {
+    const double a = heading_deg[i] * M_PI / 180;
+    BodyPath p = straight({0, 0, 0}, {std::sin(a), std::cos(a), -2});
+    p.name = "ball";
+    runs.push_back({names[i][0], names[i][1], names[i][2], {straight({0, 0, 0}, {0, 0, 1}), p}});
+  }
+  return runs;
+}
+
+TEST(DemonstrationOutcomes, TheFigureAgainstTheRigidOrTheOwnSimulatorsReference) {
+  DemonstrationSpec demo;
+  demo.enabled = true;
+  demo.figure = "angle";
+  demo.figure_body = "ball";
+  demo.figure_horizontal = true;
+  const Eigen::Vector3d g(0, 0, -9.8);
+  // The deformable reference leaves 2 deg off the rigid one, the deformable adversarial 10 deg.
+  const std::vector<DemonstrationRun> runs = six_runs({0, 0, 0, 2, 10, 6});
+  const std::vector<DemonstrationOutcome> rigid = demonstration_outcomes(demo, runs, g);
+  ASSERT_EQ(rigid.size(), 6u);
+  EXPECT_NEAR(rigid[1].figure, 0.0, 1e-12);
+  EXPECT_NEAR(rigid[3].figure, 2.0, 1e-9);
+  EXPECT_NEAR(rigid[4].figure, 10.0, 1e-9);
+  EXPECT_FALSE(rigid[4].has_predicate);
+
+  demo.figure_against_own_simulator = true;
+  const std::vector<DemonstrationOutcome> own = demonstration_outcomes(demo, runs, g);
+  EXPECT_NEAR(own[1].figure, 0.0, 1e-12);
+  EXPECT_NEAR(own[3].figure, 0.0, 1e-12);  // the deformable reference against itself
+  EXPECT_NEAR(own[4].figure, 8.0, 1e-9);   // the separation the paper reports
+  EXPECT_NEAR(own[5].figure, 4.0, 1e-9);
+  EXPECT_EQ(own[4].run, "deformable adversarial");
+
+  // Unprojected, the common fall (z -2 against a heading of length 1) shrinks the angle.
+  demo.figure_horizontal = false;
+  EXPECT_LT(demonstration_outcomes(demo, runs, g)[4].figure, 4.0);
+
+  // A run that was not made has no row; a missing reference run leaves the figure NaN.
+  std::vector<DemonstrationRun> no_deformable_reference = runs;
+  no_deformable_reference[3].paths.clear();
+  const auto rows = demonstration_outcomes(demo, no_deformable_reference, g);
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_TRUE(std::isnan(rows[3].figure)) << rows[3].run;
+  EXPECT_FALSE(std::isnan(rows[1].figure));
+}
+
+TEST(DemonstrationOutcomes, AFigureBodyWithoutAPathIsAnError) {
+  DemonstrationSpec demo;
+  demo.figure = "angle";
+  demo.figure_body = "ghost";
+  try {
+    demonstration_outcomes(demo, six_runs({0, 0, 0, 0, 0, 0}), Eigen::Vector3d(0, 0, -9.8));
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("body 'ghost'"), std::string::npos) << e.what();
+  }
+}
+
 TEST(BoundingRadius, FarthestVertex) {
   Eigen::MatrixXd V(3, 3);
   V << 1, 0, 0, 0, 2, 0, 0, 0, -0.5;

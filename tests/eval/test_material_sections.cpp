@@ -88,6 +88,14 @@ TEST(MaterialSections, DataCarriesEachElementsValueAndThePictureIsDrawn) {
     EXPECT_TRUE(line.empty());
   }
   EXPECT_TRUE(std::filesystem::exists(dir + "/materials.gp"));
+  {
+    // The overall title is plain text: a scene name's underscore is not a subscript.
+    std::ifstream gp(dir + "/materials.gp");
+    std::stringstream script;
+    script << gp.rdbuf();
+    EXPECT_NE(script.str().find("title 'the test''s ball' noenhanced"), std::string::npos)
+        << script.str();
+  }
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     EXPECT_EQ(png, dir + "/materials.png");
     EXPECT_GT(std::filesystem::file_size(png), 10000u);

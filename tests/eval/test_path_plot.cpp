@@ -1,14 +1,15 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "rbaa/eval/path_plot.hpp"
+#include "rbaa/scene/scene.hpp"
 
 namespace rbaa {
 namespace {
@@ -77,6 +78,117 @@ TEST(PathPlot, TimeViewWritesTimesAndTheHorizontalPlanes) {
     EXPECT_EQ(t, bouncing.times[i]);
     EXPECT_EQ(z, bouncing.points(i, 2));
   }
+  std::filesystem::remove_all(dir);
+}
+
+// A closed unit cube [0, 1]^3 as 12 triangles.
+ObstacleMesh unit_cube() {
+  ObstacleMesh m;
+  m.name = "cube";
+  m.V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) m.V.row(i) << (i & 1), (i >> 1) & 1, (i >> 2) & 1;
+  m.F.resize(12, 3);
+  m.F << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6,
+      1, 3, 5, 3, 7, 5;
+  return m;
+}
+
+TEST(PathPlot, MeshSectionOfACubeIsItsSquare) {
+  const ObstacleMesh cube = unit_cube();
+  // Cut half way up, seen from the side along y: the square's trace is z = 0.5 from x = 0 to 1;
+  // seen from above (u = x, v = y), the whole square, perimeter 4.
+  const Eigen::MatrixXd top =
+      mesh_section(cube.V, cube.F, Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d::UnitZ(),
+                   Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY());
+  double perimeter = 0;
+  for (Eigen::Index r = 0; r < top.rows(); ++r) {
+    perimeter += (top.row(r).head<2>() - top.row(r).tail<2>()).norm();
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_GE(top(r, c), -1e-15);
+      EXPECT_LE(top(r, c), 1 + 1e-15);
+    }
+  }
+  EXPECT_NEAR(perimeter, 4.0, 1e-12);
+  // A plane that misses the cube cuts nothing.
+  EXPECT_EQ(mesh_section(cube.V, cube.F, Eigen::Vector3d(0, 0, 2), Eigen::Vector3d::UnitZ(),
+                         Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY())
+                .rows(),
+            0);
+}
+
+// The ball's demonstration (configs/demos/ball_hoop.yaml): the release flies diagonally at the
+// board, so the side view is the vertical plane of motion (u along the throw, v = z); the board
+// shows as a vertical line and the rim as its two tube circles, on either side of the hoop's
+// centre; the legend is inside the canvas.
+TEST(PathPlot, TheBallsSideViewDrawsTheBoardAndTheRimsSections) {
+  const Scene scene = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/demos/ball_hoop.yaml");
+  ASSERT_EQ(scene.obstacle_meshes.size(), 2u);
+  const Eigen::Vector3d x0 = scene.position, v0 = scene.velocity;
+  const PathSeries thrown = sampled("thrown", [&](double t) {
+    return Eigen::Vector3d(x0 + 0.25 * t * v0 + Eigen::Vector3d(0, 0, -4.9 * 0.0625 * t * t));
+  });
+  const PlotView view = plot_view({thrown});
+  EXPECT_FALSE(view.time_axis);
+  EXPECT_EQ(view.horizontal, -1);
+  const Eigen::Vector3d along = Eigen::Vector3d(v0.x(), v0.y(), 0).normalized();
+  EXPECT_NEAR(view.u.dot(along), 1.0, 1e-9);  // the throw runs left to right
+  EXPECT_EQ(view.v, Eigen::Vector3d::UnitZ());
+
+  const std::string dir = (std::filesystem::temp_directory_path() / "rbaa_path_plot_hoop").string();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  write_path_plot(dir + "/paths", "hoop", {thrown}, scene.planes, scene.obstacle_meshes);
+  const std::string script = read(dir + "/paths.gp");
+  EXPECT_NE(script.find("paths_obstacles.dat' using 1:2 with lines"), std::string::npos) << script;
+  EXPECT_NE(script.find("set key inside"), std::string::npos) << script;
+  EXPECT_EQ(script.find("set key outside"), std::string::npos) << script;
+  EXPECT_NE(script.find("set xlabel 'along ("), std::string::npos) << script;
+  EXPECT_NE(script.find(", 0) (m)'"), std::string::npos) << script;  // not -0
+
+  // Read the sections back, mesh by mesh (a comment line opens each).
+  std::ifstream data(dir + "/paths_obstacles.dat");
+  std::vector<std::vector<Eigen::Vector2d>> points;
+  std::vector<std::string> names;
+  for (std::string line; std::getline(data, line);) {
+    if (line.rfind("# ", 0) == 0) {
+      names.push_back(line);
+      points.emplace_back();
+    } else if (!line.empty()) {
+      std::istringstream in(line);
+      Eigen::Vector2d p;
+      ASSERT_TRUE(in >> p.x() >> p.y()) << line;
+      ASSERT_FALSE(points.empty());
+      points.back().push_back(p);
+    }
+  }
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_NE(names[0].find("backboard.obj"), std::string::npos) << names[0];
+  EXPECT_NE(names[1].find("hoop.obj"), std::string::npos) << names[1];
+  // The board (y = 0, 1.83 x 1.07 m, lower edge 2.9 m up, centred on x = 0): the line u = 0
+  // from z = 2.9 to 3.97.
+  ASSERT_FALSE(points[0].empty());
+  double z_lo = INFINITY, z_hi = -INFINITY;
+  for (const Eigen::Vector2d& p : points[0]) {
+    EXPECT_NEAR(p.x(), 0.0, 1e-9);
+    z_lo = std::min(z_lo, p.y());
+    z_hi = std::max(z_hi, p.y());
+  }
+  EXPECT_NEAR(z_lo, 2.9, 1e-9);
+  EXPECT_NEAR(z_hi, 2.9 + 1.07, 1e-9);
+  // The rim: every point within the 8 mm tube of a circle of radius 0.2286 + 0.008 about the
+  // hoop's centre, and points on both sides of it, near z = 3.048. The mesh's chords (64 around
+  // the ring) may lie outside the smooth tube by at most 0.2446 (1 - cos(pi / 64)) = 0.3 mm.
+  const Eigen::Vector3d hoop(0, -0.3796, 3.048);
+  const double u0 = view.u.dot(hoop), ring = 0.2286 + 0.008;
+  int left = 0, right = 0;
+  for (const Eigen::Vector2d& p : points[1]) {
+    const double side = p.x() < u0 ? -1 : 1;
+    const double off = (p - Eigen::Vector2d(u0 + side * ring, 3.048)).norm();
+    EXPECT_LT(off, 0.008 + 0.2446 * (1 - std::cos(M_PI / 64)) + 1e-12) << p.transpose();
+    (side < 0 ? left : right) += 1;
+  }
+  EXPECT_GT(left, 8);
+  EXPECT_GT(right, 8);
   std::filesystem::remove_all(dir);
 }
 

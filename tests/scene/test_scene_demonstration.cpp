@@ -103,6 +103,10 @@ TEST(SceneDemonstration, BadInputIsOneLineNamingFileLineAndKey) {
       {"  predicate: {kind: stands, bodies: [low], min_height: 0, max_tilt_deg: 0}\n",
        "value 0 is outside"},
       {"  figure: separation\n", "key 'demonstration.figure': 'separation' is not one of"},
+      {"  figure: angle\n  figure_against: deformable\n",
+       "key 'demonstration.figure_against': 'deformable' is not one of"},
+      {"  figure: angle\n  figure_projection: vertical\n",
+       "key 'demonstration.figure_projection': 'vertical' is not one of"},
       {"  figure: angle\n  figure_body: ghost\n", "'ghost' is not one of"},
       {"  figures: angle\n", "key 'demonstration.figures': unknown key"},
       {"  {}\n", "give a predicate, a figure or both"},
@@ -115,12 +119,45 @@ TEST(SceneDemonstration, BadInputIsOneLineNamingFileLineAndKey) {
   }
 }
 
+TEST(SceneDemonstration, HorizontalFigureNeedsGravity) {
+  const std::string what = test::scene_parse_error(
+      "mesh: {shape: sphere}\ngravity: off\n"
+      "demonstration: {figure: angle, figure_projection: horizontal}\n");
+  EXPECT_NE(what.find("key 'demonstration.figure_projection': horizontal needs gravity"),
+            std::string::npos)
+      << what;
+  const Scene s = parse_scene(two_cubes("  figure: angle\n  figure_against: own_simulator\n"
+                                        "  figure_projection: horizontal\n"),
+                              "test.yaml", "");
+  EXPECT_TRUE(s.demonstration.figure_against_own_simulator);
+  EXPECT_TRUE(s.demonstration.figure_horizontal);
+  EXPECT_FALSE(parse_scene(two_cubes("  figure: angle\n"), "test.yaml", "")
+                   .demonstration.figure_against_own_simulator);
+}
+
 TEST(SceneDemonstration, TheShippedDemonstrationsLoad) {
   for (const char* name : {"ball_hoop", "bunny_bin", "cube_stack"}) {
     const Scene s = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/demos/" + name + ".yaml");
     EXPECT_TRUE(s.demonstration.enabled) << name;
     EXPECT_NE(s.demonstration.predicate.kind, PredicateSpec::Kind::kNone) << name;
   }
+  // The star and the bat have a figure and no predicate (the paper reports their angles).
+  const Scene star = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/demos/star.yaml");
+  EXPECT_EQ(star.demonstration.figure, "angle");
+  EXPECT_TRUE(star.demonstration.figure_against_own_simulator);
+  EXPECT_EQ(star.planes.size(), 2u);
+  EXPECT_DOUBLE_EQ(star.evaluation_duration, 1.0);
+  const Scene bat = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/demos/bat.yaml");
+  EXPECT_EQ(bat.demonstration.figure_body, "ball");
+  EXPECT_TRUE(bat.demonstration.figure_horizontal);
+  EXPECT_DOUBLE_EQ(bat.evaluation_duration, 2.0);
+  // The same scene as the attack's, so that its objects fit and the figure means the attack's.
+  const Scene attack = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/bat.yaml");
+  EXPECT_EQ(bat.position, attack.position);
+  EXPECT_EQ(bat.bodies.at(0).position, attack.bodies.at(0).position);
+  EXPECT_EQ(bat.driven.motion.centre, attack.driven.motion.centre);
+  EXPECT_EQ(bat.rotation_angle_deg, attack.rotation_angle_deg);
+  EXPECT_EQ(bat.kappa, attack.kappa);
 }
 
 }  // namespace

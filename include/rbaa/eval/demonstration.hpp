@@ -26,6 +26,12 @@ struct BodyPath {
   double bounding_radius = 0;
 };
 
+/// A body's rest shape: its name (as in BodyPath) and its vertices at t = 0 (world, #V by 3).
+struct BodyShape {
+  std::string name;
+  Eigen::MatrixXd V;
+};
+
 /// Largest distance of a vertex (rows of V, #V by 3) from `centre` (m).
 double bounding_radius(const Eigen::MatrixXd& V, const Eigen::Vector3d& centre);
 
@@ -70,11 +76,31 @@ struct DemonstrationOutcome {
   bool has_predicate = false;
   PredicateOutcome predicate;
   /// The figure (DemonstrationSpec::figure "angle"): the angle between this run's final
-  /// centre-of-mass velocity of figure_body and the rigid reference's (deg); NaN when none.
+  /// centre-of-mass velocity of figure_body and a reference run's (deg, see
+  /// demonstration_outcomes); NaN when none.
   double figure = 0;
 };
 
 /// The angle between two vectors (deg; 0 when either is zero), accurate for tiny angles.
 double angle_between_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+
+/// The angle between a and b (deg) after projecting both onto the plane normal to `normal`
+/// (a - (a.n) n with n = normal / |normal|); with normal zero, the plain angle.
+double projected_angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const Eigen::Vector3d& normal);
+
+/// One run's paths, named for the outcome table; `paths` empty when the run was not made.
+struct DemonstrationRun {
+  std::string run, simulator, object;  ///< as DemonstrationOutcome's
+  std::vector<BodyPath> paths;
+};
+
+/// The outcome table: per run that was made, the predicate and the figure: the angle between
+/// the final centre-of-mass velocity of demo.figure_body and that of the rigid reference (or,
+/// with figure_against_own_simulator, of the reference run with the same simulator), projected
+/// normal to `gravity` with figure_horizontal. A figure whose reference run is missing is NaN.
+std::vector<DemonstrationOutcome> demonstration_outcomes(const DemonstrationSpec& demo,
+                                                         const std::vector<DemonstrationRun>& runs,
+                                                         const Eigen::Vector3d& gravity);
 
 }  // namespace rbaa

@@ -151,6 +151,11 @@ struct Evaluation {
   /// adversarial and soft control (the control's rigid body is the reference's: same surface,
   /// same moments, same calibration). Empty when the scene has no demonstration.
   std::vector<DemonstrationOutcome> outcomes;
+  /// The runs the outcomes were judged on (every body's path; a run not made has none) and every
+  /// body's rest shape, for the final-poses picture of a demonstration whose predicate is
+  /// `stands`. Empty otherwise.
+  std::vector<DemonstrationRun> demonstration_runs;
+  std::vector<BodyShape> body_shapes;
   /// The adversarial object as evaluated (placed at the scene's pose), for its pictures.
   TetMesh adversarial_mesh;
   MaterialField adversarial_materials;

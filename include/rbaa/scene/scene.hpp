@@ -134,9 +134,18 @@ struct DemonstrationSpec {
   bool enabled = false;
   PredicateSpec predicate;
   /// The scene's figure per run: "angle" (the angle between the run's final centre-of-mass
-  /// velocity of `figure_body` and the rigid reference's, deg), or "" (none).
+  /// velocity of `figure_body` and a reference run's, deg), or "" (none).
   std::string figure;
   std::string figure_body;  ///< "object" or a bodies[i].name; default evaluation.body
+  /// Which run the figure is measured against (figure_against): the rigid reference (false,
+  /// the default), or the reference run of the same simulator (true: a rigid run against the
+  /// rigid reference, a deformable run against the deformable reference), which is the paper's
+  /// separation between the reference's and the adversarial's outgoing directions.
+  bool figure_against_own_simulator = false;
+  /// figure_projection: horizontal. Both velocities are projected onto the plane normal to
+  /// gravity first: free flight under gravity leaves that part unchanged, so a body flying on
+  /// after its last contact keeps its figure (the 3D angle shrinks as both fall faster).
+  bool figure_horizontal = false;
 };
 
 /// A Coulomb coefficient between two bodies (contact.pairs[i]): body 0 is the object, body
