@@ -140,7 +140,9 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
     whole.element_end = run.mesh.num_tets();
     bodies.push_back(whole);
   }
-  // On the grid of h, like the traces the episodes index (contact-resolving sub-steps left out).
+  // On the grid of h, like the traces the episodes index; with contact-resolving steps a position
+  // of the grid counts as in contact when any sub-step since the previous one was (an impact can
+  // begin and end between two positions of the grid).
   const std::vector<int> frames = run.trajectory.grid_frames();
   const int num_positions = static_cast<int>(frames.size());
   const std::vector<BodySurface> surfaces = body_surfaces(run.mesh, bodies);
@@ -165,7 +167,8 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
 
   const double d2_hat = d_hat * d_hat;
   for (int k = 0; k < num_positions; ++k) {
-    const Eigen::VectorXd& q = run.trajectory.q[frames[k]];
+   for (int j = k == 0 ? frames[0] : frames[k - 1] + 1; j <= frames[k]; ++j) {
+    const Eigen::VectorXd& q = run.trajectory.q[j];
     const Positions P = Eigen::Map<const Positions>(q.data(), q.size() / 3, 3);
     std::vector<contact::Aabb> boxes;
     for (size_t b = 0; b < bodies.size(); ++b) {
@@ -206,6 +209,7 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
         t.point = c.point;
       }
     }
+   }
   }
 
   // Pick, per mesh, the track with the earliest contact; every body pair stands alone.

@@ -30,15 +30,45 @@ const char* mass_name(MassModel m) { return m == MassModel::kConsistent ? "consi
 
 nlohmann::json vec3(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
 
+// The contact distances of positions q: per plane (the object's surface only when there are
+// further bodies: bounces are the object's) and the smallest to anything.
+StepObservables contact_distances(Simulator& sim, const Eigen::VectorXd& q,
+                                  const std::vector<Body>& bodies) {
+  const ContactSet& set = sim.contact_form().contact_set();
+  const Body& object = bodies.front();
+  StepObservables o;
+  // Bounces are the object's: with further bodies, only its surface vertices count.
+  if (bodies.size() > 1) {
+    o.plane_distance.assign(set.planes().size(), std::numeric_limits<double>::infinity());
+    for (int v : set.surface_vertices()) {
+      if (v < object.vertex_begin || v >= object.vertex_end) continue;
+      for (std::size_t p = 0; p < set.planes().size(); ++p) {
+        o.plane_distance[p] = std::min(o.plane_distance[p], vertex_plane_distance(q.segment<3>(3 * v), set.planes()[p]));
+      }
+    }
+  } else {
+    o.plane_distance = set.min_distance_per_plane(q);
+  }
+  o.min_distance = set.min_distance(q);
+  // Mesh obstacles: the closest pair within d_hat (beyond it, the planes' figure stands).
+  if (const MeshObstacleForm* mesh = sim.mesh_obstacle_form()) {
+    o.min_distance = std::min(o.min_distance, mesh->min_distance(q));
+  }
+  if (const BodyContactForm* pairs = sim.body_contact_form()) {
+    o.min_distance = std::min(o.min_distance, pairs->min_distance(q));
+  }
+  return o;
+}
+
 }  // namespace
 
 std::vector<StepObservables> compute_observables(Simulator& simulator,
                                                  const Trajectory& trajectory) {
   Simulator& sim = simulator;
   const Eigen::VectorXd& masses = sim.vertex_masses();
-  const ContactSet& set = sim.contact_form().contact_set();
-  // On the grid of h only (contact-resolving sub-steps left out): the rigid twin and the bounce
-  // detection compare runs step by step.
+  // On the grid of h only: the rigid twin and the bounce detection compare runs step by step.
+  // With contact-resolving steps the distances of a position of the grid are the smallest over
+  // the sub-steps since the previous one, so that an impact shorter than h still shows.
   const std::vector<int> frames = trajectory.grid_frames();
   std::vector<StepObservables> out(frames.size());
   std::vector<Body> bodies = sim.settings().bodies;
@@ -72,25 +102,14 @@ std::vector<StepObservables> compute_observables(Simulator& simulator,
           q.segment(3 * body.vertex_begin, 3 * body.num_vertices()),
           masses.segment(body.vertex_begin, body.num_vertices())));
     }
-    // Bounces are the object's: with further bodies, only its surface vertices count.
-    if (bodies.size() > 1) {
-      o.plane_distance.assign(set.planes().size(), std::numeric_limits<double>::infinity());
-      for (int v : set.surface_vertices()) {
-        if (v < object.vertex_begin || v >= object.vertex_end) continue;
-        for (std::size_t p = 0; p < set.planes().size(); ++p) {
-          o.plane_distance[p] = std::min(o.plane_distance[p], vertex_plane_distance(q.segment<3>(3 * v), set.planes()[p]));
-        }
-      }
-    } else {
-      o.plane_distance = set.min_distance_per_plane(q);
-    }
-    o.min_distance = set.min_distance(q);
-    // Mesh obstacles: the closest pair within d_hat (beyond it, the planes' figure stands).
-    if (const MeshObstacleForm* mesh = sim.mesh_obstacle_form()) {
-      o.min_distance = std::min(o.min_distance, mesh->min_distance(q));
-    }
-    if (const BodyContactForm* bodies = sim.body_contact_form()) {
-      o.min_distance = std::min(o.min_distance, bodies->min_distance(q));
+    const StepObservables d = contact_distances(sim, q, bodies);
+    o.plane_distance = d.plane_distance;
+    o.min_distance = d.min_distance;
+    for (int j = i == 0 ? k : frames[i - 1] + 1; j < k; ++j) {
+      const StepObservables sub = contact_distances(sim, trajectory.q[j], bodies);
+      o.min_distance = std::min(o.min_distance, sub.min_distance);
+      for (std::size_t p = 0; p < o.plane_distance.size(); ++p)
+        o.plane_distance[p] = std::min(o.plane_distance[p], sub.plane_distance[p]);
     }
   }
   return out;
