@@ -319,6 +319,8 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   r.mesh = problem.body_mesh;
   r.kappa = problem.kappa;
   r.reference_moments = problem.reference_moments;
+  r.reference_steps = problem.reference.num_steps();
+  r.reference_resolving = problem.reference.resolving;
   r.scored_com_reference = problem.scored_reference_com;
   const MaterialField reference_materials = problem.body_materials(problem.reference_materials);
 
@@ -491,6 +493,9 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
         {"polish_iterations", scene.polish_iterations},
         {"time_step", scene.time_step},
         {"contact_substeps", scene.contact_substeps},
+        {"reference_steps_taken", r.reference_steps},
+        {"reference_steps_shorter_than_h", r.reference_resolving.refined_steps},
+        {"reference_contacts", r.reference_resolving.contacts},
         {"duration", scene.duration}}},
       {"mesh",
        {{"tets", r.mesh.num_tets()},

@@ -58,6 +58,32 @@ TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
   EXPECT_EQ(nlohmann::json::parse(in3)["newton"]["iterations_per_step"].size(), 4u);
 }
 
+// Contact-resolving steps: report.json says what they did, and trajectory.csv keeps one row per
+// step of h however many sub-steps were taken.
+TEST_F(CliSimulate, ContactResolvingStepsReportTheirStepsAndKeepTheGrid) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  const Result r = run("simulate --config=" + config + " --set=time.contact_substeps=8 --vtu_every=0 --out=" +
+                       path("cr"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("cr/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  ASSERT_TRUE(report.contains("contact_resolving")) << report.dump();
+  const auto& c = report["contact_resolving"];
+  EXPECT_EQ(c["substeps"].get<int>(), 8);
+  EXPECT_EQ(c["steps_of_h"].get<int>(), 5);
+  EXPECT_EQ(c["steps_taken"].get<int>(), report["steps"].get<int>());
+  EXPECT_EQ(c["steps_taken"].get<std::size_t>(), report["newton"]["iterations_per_step"].size());
+  // The ball meets the plane 0.015 s in: steps shrink around it.
+  EXPECT_GE(c["contacts"].get<int>(), 1);
+  EXPECT_GT(c["steps_taken"].get<int>(), 5);
+  EXPECT_GT(c["sub_steps"].get<int>(), 0);
+  EXPECT_DOUBLE_EQ(report["duration"].get<double>(), 0.05);
+  std::ifstream csv(path("cr/trajectory.csv"));
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, 1 + 6);
+}
+
 // The command line sizes OpenMP teams dynamically (CHOLMOD asks for 4 threads on any machine) and
 // puts OpenBLAS on one thread, unless the user set OMP_DYNAMIC / OPENBLAS_NUM_THREADS; report.json
 // says what it set.

@@ -103,6 +103,10 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   EXPECT_TRUE(report["materials"]["Y"].contains("min"));
   EXPECT_TRUE(report["timing"].contains("adjoint_s"));
   EXPECT_EQ(report["iterations"].get<int>(), 30);
+  // Constant steps: the reference run took T / h of them, none shorter.
+  EXPECT_EQ(report["settings"]["reference_steps_taken"].get<int>(),
+            static_cast<int>(std::lround(scene.duration / scene.time_step)));
+  EXPECT_EQ(report["settings"]["reference_steps_shorter_than_h"].get<int>(), 0);
   // Survival under refinement (attack.refinement_factor, default 2): the reference and the final
   // object again at h / 2, the gap measured between them.
   const RefinementCheck& c = r.refinement;

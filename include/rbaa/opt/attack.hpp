@@ -23,6 +23,7 @@
 #include "rbaa/opt/post_process.hpp"
 #include "rbaa/opt/uniform_start.hpp"
 #include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/trajectory.hpp"
 
 namespace rbaa {
 
@@ -58,6 +59,9 @@ struct AttackResult {
   TetMesh mesh;               ///< A's placed reference mesh (the design's domain)
   double kappa = 0;
   Moments reference_moments;
+  /// The reference run's steps taken and, with contact-resolving steps, what they did.
+  int reference_steps = 0;
+  ContactResolvingStats reference_resolving;
   MaterialField continuous;      ///< after the Adam loop (full mesh)
   MaterialField failed;          ///< the design whose simulation stopped the loop (if it stopped early)
   PostProcessResult post;        ///< rounded field, solid object, repair and re-fit reports
