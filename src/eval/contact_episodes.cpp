@@ -166,9 +166,8 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
   std::vector<std::vector<char>> near(bodies.size(), std::vector<char>(num_positions, 0));
 
   const double d2_hat = d_hat * d_hat;
-  for (int k = 0; k < num_positions; ++k) {
-   for (int j = k == 0 ? frames[0] : frames[k - 1] + 1; j <= frames[k]; ++j) {
-    const Eigen::VectorXd& q = run.trajectory.q[j];
+  // Marks position k of the grid with what positions q show.
+  auto mark = [&](int k, const Eigen::VectorXd& q) {
     const Positions P = Eigen::Map<const Positions>(q.data(), q.size() / 3, 3);
     std::vector<contact::Aabb> boxes;
     for (size_t b = 0; b < bodies.size(); ++b) {
@@ -209,7 +208,11 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
         t.point = c.point;
       }
     }
-   }
+  };
+  for (int k = 0; k < num_positions; ++k) {
+    for (int j = k == 0 ? frames[0] : frames[k - 1] + 1; j <= frames[k]; ++j) {
+      mark(k, run.trajectory.q[j]);
+    }
   }
 
   // Pick, per mesh, the track with the earliest contact; every body pair stands alone.

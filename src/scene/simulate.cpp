@@ -120,8 +120,7 @@ namespace {
 // report.json's `contact_resolving`: steps taken, sub-steps per contact, what refinement cost.
 nlohmann::json contact_resolving_json(const Trajectory& t) {
   const ContactResolvingStats& c = t.resolving;
-  int substeps = 0;
-  for (double h : t.step_sizes) substeps += h < t.time_step;
+  const int substeps = c.refined_steps;  // steps shorter than h
   return {{"substeps", c.substeps},
           {"steps_taken", t.num_steps()},
           {"steps_of_h", static_cast<int>(t.grid.size()) - 1},

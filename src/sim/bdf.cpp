@@ -64,7 +64,7 @@ Eigen::VectorXd bdf_predict(Integrator kind, const BdfPredictor& p,
 Eigen::VectorXd bdf_velocity(Integrator kind, const BdfStepRule& rule, double h,
                              const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_n1,
                              const Eigen::VectorXd& q_n2) {
-  if (kind == Integrator::kBdf1) return (q_n - q_n1) / (rule == BdfStepRule{1.0, 0.0, h} ? h : rule.b);
+  if (kind == Integrator::kBdf1) return (q_n - q_n1) / rule.b;  // b = h
   if (rule == bdf_step_rule(kind, h, h)) {
     // 3 q_n - 4 q_{n-1} + q_{n-2} in differences (rounding relative to the motion, not to |q|)
     return (3.0 * (q_n - q_n1) - (q_n1 - q_n2)) / (2.0 * h);

@@ -368,10 +368,8 @@ StepStats Simulator::advance() {
   // M (q - q_hat) = w M g) when the straight path to it is admissible, else from q_n. Starting
   // there also keeps a free fall on the parabola to round-off: Newton's last, unapplied step
   // (below tolerance by design) then holds no rigid motion.
-  Eigen::VectorXd guess = q_hat;
+  const Eigen::VectorXd guess = ballistic_guess(q_hat);
   const double w = integrator_.potential_weight();
-  for (int v = 0; v < rest_.num_vertices(); ++v) guess.segment<3>(3 * v) += w * settings_.gravity;
-  if (!driven_dofs_.empty()) set_driven_positions(guess, t1);
   Eigen::VectorXd x = q_start;
   if (potential_->max_step_size(q_start, guess) >= 1.0 &&
       potential_->is_step_valid(q_start, guess)) {
@@ -459,15 +457,19 @@ int Simulator::active_pairs(const Eigen::VectorXd& x) const {
   return n;
 }
 
-bool Simulator::prediction_in_contact() const {
-  // The ballistic guess q_hat + w g of advance(): if flying there meets an obstacle or ends
-  // within d_hat, the step will very likely end in contact.
-  const Eigen::VectorXd& q_n = integrator_.current();
-  Eigen::VectorXd guess = integrator_.predictor();
+Eigen::VectorXd Simulator::ballistic_guess(const Eigen::VectorXd& q_hat) const {
+  Eigen::VectorXd guess = q_hat;
   const double w = integrator_.potential_weight();
   for (int v = 0; v < rest_.num_vertices(); ++v) guess.segment<3>(3 * v) += w * settings_.gravity;
   if (!driven_dofs_.empty()) set_driven_positions(guess, time_at(units_ + next_units_));
-  return potential_->max_step_size(q_n, guess) < 1.0 || active_pairs(guess) > 0;
+  return guess;
+}
+
+bool Simulator::prediction_in_contact() const {
+  // advance()'s ballistic guess: if flying there meets an obstacle or ends within d_hat, the
+  // step will very likely end in contact.
+  const Eigen::VectorXd guess = ballistic_guess(integrator_.predictor());
+  return potential_->max_step_size(integrator_.current(), guess) < 1.0 || active_pairs(guess) > 0;
 }
 
 void Simulator::run_resolving(Trajectory& t, const StepCallback& callback) {

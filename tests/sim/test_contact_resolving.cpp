@@ -82,11 +82,15 @@ TEST(ContactResolving, RefinesAroundTheImpactAndEndsOnTheGrid) {
     EXPECT_EQ(u & (u - 1), 0) << k;
     EXPECT_EQ(at % u, 0) << k;
     at += u;
-    if (k > 0) EXPECT_LE(dt / a.step_sizes[k - 1], 2.0 + 1e-12) << k;
+    if (k > 0) {
+      EXPECT_LE(dt / a.step_sizes[k - 1], 2.0 + 1e-12) << k;
+    }
     sum += dt;
     EXPECT_NEAR(a.times[k + 1], sum, 1e-14) << k;
     // A step of more than one unit ends out of contact (it would have been halved).
-    if (units > 1.5) EXPECT_EQ(a.steps[k].active_pairs, 0) << k;
+    if (units > 1.5) {
+      EXPECT_EQ(a.steps[k].active_pairs, 0) << k;
+    }
   }
   // Deterministic to the bit, and never intersecting.
   ASSERT_EQ(b.num_steps(), a.num_steps());

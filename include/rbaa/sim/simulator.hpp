@@ -182,6 +182,9 @@ class Simulator {
   double time_at(long units) const;
   // Contact pairs closer than d_hat at x (planes, obstacle meshes, other bodies).
   int active_pairs(const Eigen::VectorXd& x) const;
+  // The next step's ballistic guess q_hat + w g (the exact step of a free, undeformed body), with
+  // driven vertices where their drives put them at the step's end.
+  Eigen::VectorXd ballistic_guess(const Eigen::VectorXd& q_hat) const;
   // Whether the next step's ballistic guess crosses into or ends within d_hat of contact.
   bool prediction_in_contact() const;
   // Runs settings_.num_steps steps of h with contact-resolving sub-steps, recording into t.
