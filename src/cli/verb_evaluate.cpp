@@ -14,6 +14,7 @@
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 
 DEFINE_string(
     adversarial, "",
@@ -49,8 +50,12 @@ int run_evaluate() {
       throw rbaa::InputError("--time_step=" + FLAGS_time_step + ": expected a positive number of seconds or auto");
     }
   }
-  const rbaa::Scene scene = rbaa::cli::load_scene_from_flags();
-  std::cerr << "rbaa evaluate: meshing the reference object of " << scene.source << "\n";
+  // An attack on another body (attack.body) designed that body: it takes the object's place.
+  const rbaa::Scene loaded = rbaa::cli::load_scene_from_flags();
+  const rbaa::Scene scene = rbaa::swap_object(loaded, loaded.attack_body);
+  std::cerr << "rbaa evaluate: meshing the reference object of " << scene.source
+            << (scene.object_name == "object" ? "" : " (the attacked body '" + scene.object_name + "')")
+            << "\n";
   const rbaa::TetMesh reference = rbaa::make_scene_mesh(scene);
   // --adversarial=reference: the reference against itself, to check a demonstration scene (does
   // the stiff reference score, rigid and deformable?) before any attack exists.
@@ -103,5 +108,6 @@ RBAA_REGISTER_VERB(evaluate, rbaa::cli::Verb{
     "A config with a demonstration block also gets an outcome table (its predicate, e.g. the\n"
     "ball passes through the hoop, and its figure per run) in summary.md and report.json.\n"
     "--adversarial=reference evaluates the stiff reference as its own adversary (a scene check).\n"
+    "An attack on another body (attack.body) is evaluated with that body in the object's place.\n"
     "Writes DIR/report.json, DIR/summary.md, one CSV per run and DIR/paths.png.",
     flags(), run_evaluate});

@@ -8,8 +8,9 @@
 #include "rbaa/cli/scene_flags.hpp"
 #include "rbaa/cli/verb.hpp"
 #include "rbaa/error.hpp"
-#include "rbaa/scene/polyfem_scene.hpp"
 #include "rbaa/scene/polyfem_model.hpp"
+#include "rbaa/scene/polyfem_scene.hpp"
+#include "rbaa/scene/scene_world.hpp"
 
 DECLARE_string(adversarial);
 DECLARE_string(out);  // here: the output directory
@@ -22,7 +23,10 @@ int run_export() {
     throw rbaa::InputError("--format: unknown format '" + FLAGS_format + "' (known: polyfem)");
   }
   if (FLAGS_out.empty()) throw rbaa::InputError("--out is required");
-  const rbaa::Scene scene = rbaa::cli::load_scene_from_flags();
+  const rbaa::Scene loaded = rbaa::cli::load_scene_from_flags();
+  // An adversarial object of an attack on another body (attack.body) takes that body's place.
+  const rbaa::Scene scene =
+      FLAGS_adversarial.empty() ? loaded : rbaa::swap_object(loaded, loaded.attack_body);
   rbaa::ExportObject object;
   if (FLAGS_adversarial.empty()) {
     object = rbaa::reference_export_object(scene);

@@ -87,7 +87,7 @@ std::vector<BodyPath> paths_from_deformable(const Scene& scene, const Simulation
   for (size_t i = 0; i < ranges.size(); ++i) {
     const auto [begin, count] = ranges[i];
     BodyPath p;
-    p.name = i == 0 ? "object" : scene.bodies.at(i - 1).name;
+    p.name = body_name(scene, static_cast<int>(i));
     const Eigen::VectorXd m = run.vertex_masses.segment(begin, count);
     const auto part = [&](const Eigen::VectorXd& x) {
       return Eigen::VectorXd(x.segment(3 * begin, 3 * count));
@@ -129,8 +129,10 @@ std::vector<BodyPath> paths_from_rigid(const std::vector<std::vector<RigidState>
   return paths;
 }
 
-// The body evaluation.body names: 0 the object, i > 0 the scene's bodies[i - 1].
+// The body evaluation.body names: 0 the object (also when it names none), i > 0 the scene's
+// bodies[i - 1].
 int evaluated_body(const Scene& scene) {
+  if (scene.evaluation_body == scene.object_name) return 0;
   for (size_t i = 0; i < scene.bodies.size(); ++i) {
     if (scene.bodies[i].name == scene.evaluation_body) return static_cast<int>(i) + 1;
   }
@@ -354,7 +356,6 @@ RestitutionCalibration calibrate_contact_restitution(
             : episode.other <= episode.body || episode.other >= num_bodies)) {
     throw InputError(scene.source + ": a contact episode names a body or mesh the scene has not");
   }
-  auto body_name = [&](int b) { return b == 0 ? std::string("object") : scene.bodies.at(b - 1).name; };
   c.contact = mesh ? RestitutionContact::kMesh : RestitutionContact::kBodies;
   c.body_a = episode.body;
   if (mesh) {
@@ -364,7 +365,7 @@ RestitutionCalibration calibrate_contact_restitution(
     c.name = "mesh " + (stem.empty() ? std::to_string(episode.other) : stem);
   } else {
     c.body_b = episode.other;
-    c.name = "bodies " + body_name(episode.body) + "-" + body_name(episode.other);
+    c.name = "bodies " + body_name(scene, episode.body) + "-" + body_name(scene, episode.other);
   }
   const double h = scene.time_step;
   c.time = episode.first_step * h;
@@ -601,12 +602,11 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
                     const TetMesh& adversarial_as_given, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options) {
   // The adversarial object takes the object's place; an attack on another body made a design
-  // for that body, which this evaluation would put in the wrong place.
-  if (scene_in.attack_body != "object") {
-    throw InputError(scene_in.source +
-                     ": key 'attack.body': rbaa evaluate puts the adversarial "
-                     "object in the object's place; evaluating an attack on body '" +
-                     scene_in.attack_body + "' is not supported yet");
+  // for that body: the caller puts it in the object's place first (swap_object).
+  if (scene_in.attack_body != scene_in.object_name) {
+    throw InputError(scene_in.source + ": key 'attack.body': the attacked body '" +
+                     scene_in.attack_body + "' is not the object '" + scene_in.object_name +
+                     "' (evaluate the scene swap_object(scene, attack.body) gives)");
   }
   validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
                           "adversarial materials");
@@ -745,7 +745,7 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
       // Rest shapes from the reference's world (the adversarial object has the same surface).
       for (size_t i = 0; i < world.bodies.size(); ++i) {
         const Body& b = world.bodies[i];
-        ev.body_shapes.push_back({i == 0 ? std::string("object") : scene_in.bodies.at(i - 1).name,
+        ev.body_shapes.push_back({body_name(scene_in, static_cast<int>(i)),
                                   world.mesh.V.middleRows(b.vertex_begin, b.num_vertices())});
       }
       ev.demonstration_runs = std::move(runs);

@@ -168,7 +168,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   nlohmann::json report = {
       {"scene", scene.name},
       {"outcomes", outcomes},
-      {"compared_body", scene.evaluation_body.empty() ? "object" : scene.evaluation_body},
+      {"compared_body", scene.evaluation_body.empty() ? scene.object_name : scene.evaluation_body},
       {"duration_s", ev.duration},
       {"time_step_s", ev.time_step},
       {"attack_time_step_s", ev.attack_time_step},
@@ -216,7 +216,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         << (ev.rigid_friction_from_scene ? " (the scene's contact.friction)"
                                          : " (not the scene's: its surfaces' coefficients differ, and Bullet has one)")
         << ". Compared: the "
-        << (scene.evaluation_body.empty() ? std::string("object") : "body '" + scene.evaluation_body + "'")
+        << (scene.evaluation_body.empty() ? (scene.object_name == "object" ? std::string("object") : "body '" + scene.object_name + "'") : "body '" + scene.evaluation_body + "'")
         << "'s centre of mass.\n\n"
         << "Restitution per plane, obstacle mesh and pair of bodies, fitted to the deformable baseline's first "
            "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact's impulse; "

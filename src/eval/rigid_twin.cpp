@@ -41,7 +41,7 @@ std::vector<std::vector<RigidState>> simulate_rigid_bodies(
   }
   std::vector<RigidBody> bodies;
   RigidBody object;
-  object.name = "object";
+  object.name = scene.object_name;
   object.mass = mass;
   object.shape = shape;
   object.velocity = scene.velocity;

@@ -313,7 +313,7 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
          << " (objective " << best.objective << ", gap " << best.gap << " m)";
     stage(line.str());
   }
-  auto name = [&scene](int i) { return i == 0 ? std::string("object") : scene.bodies[i - 1].name; };
+  auto name = [&scene](int i) { return body_name(scene, i); };
   r.attacked_body = name(problem.attacked);
   r.scored_body = name(problem.scored);
   r.mesh = problem.body_mesh;

@@ -71,7 +71,7 @@ void make_designs(AttackProblem& p, const DesignSpaceOptions& options) {
 }  // namespace
 
 int body_index(const Scene& scene, const std::string& name, const std::string& what) {
-  if (name == "object") return 0;
+  if (name == scene.object_name) return 0;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     if (scene.bodies[i].name == name) return static_cast<int>(i) + 1;
   }

@@ -86,9 +86,7 @@ std::vector<std::pair<std::string, double>> friction_coefficients(const Scene& s
   }
   for (const ObstacleMesh& m : scene.obstacle_meshes) out.emplace_back(m.name, m.friction);
   const Eigen::MatrixXd mu = body_friction(scene);
-  auto name = [&](Eigen::Index i) {
-    return i == 0 ? std::string("object") : scene.bodies[i - 1].name;
-  };
+  auto name = [&](Eigen::Index i) { return body_name(scene, static_cast<int>(i)); };
   for (Eigen::Index a = 0; a < mu.rows(); ++a) {
     for (Eigen::Index b = a + 1; b < mu.cols(); ++b) {
       out.emplace_back("bodies " + name(a) + " and " + name(b), mu(a, b));

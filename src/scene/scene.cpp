@@ -467,8 +467,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.evaluation_max_refinements = e.integer("max_refinements", s.evaluation_max_refinements, 0, 10);
     s.evaluation_duration = e.number("duration", s.evaluation_duration, 0.0, 1e6, true);
     s.evaluation_body = e.text("body", "");
-    if (s.evaluation_body == "object") s.evaluation_body.clear();
-    if (!s.evaluation_body.empty() &&
+    if (!s.evaluation_body.empty() && s.evaluation_body != "object" &&
         std::none_of(s.bodies.begin(), s.bodies.end(),
                      [&](const BodySpec& b) { return b.name == s.evaluation_body; })) {
       std::string names = "object";
@@ -737,6 +736,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   buffer << in.rdbuf();
   const std::string base = std::filesystem::path(path).parent_path().string();
   return parse_scene(buffer.str(), path, base, overrides);
+}
+
+std::string body_name(const Scene& scene, int index) {
+  return index == 0 ? scene.object_name : scene.bodies.at(index - 1).name;
 }
 
 }  // namespace rbaa

@@ -127,6 +127,49 @@ double scene_barrier_stiffness(const Scene& scene, const TetMesh& placed) {
   return barrier_stiffness_from_energy(m.m0, speed, scene.d_hat);
 }
 
+Scene swap_object(const Scene& scene, const std::string& name) {
+  if (name == scene.object_name) return scene;
+  const auto it = std::find_if(scene.bodies.begin(), scene.bodies.end(),
+                               [&](const BodySpec& b) { return b.name == name; });
+  if (it == scene.bodies.end()) {
+    throw InputError(scene.source + ": no body named '" + name + "' to put in the object's place");
+  }
+  if (!it->materials_file.empty()) {
+    throw InputError(scene.source + ": body '" + name + "' has a materials file (" +
+                     it->materials_file + "); only a body of the reference material can take "
+                     "the object's place");
+  }
+  const int i = static_cast<int>(it - scene.bodies.begin());
+  Scene s = scene;
+  if (!(s.kappa > 0)) s.kappa = scene_barrier_stiffness(scene, make_scene_mesh(scene));
+  BodySpec old;
+  old.name = scene.object_name;
+  old.mesh = scene.mesh;
+  old.position = scene.position;
+  old.velocity = scene.velocity;
+  old.angular_velocity = scene.angular_velocity;
+  old.rotation_axis = scene.rotation_axis;
+  old.rotation_angle_deg = scene.rotation_angle_deg;
+  old.driven = scene.driven;
+  const BodySpec& b = *it;
+  s.object_name = b.name;
+  s.mesh = b.mesh;
+  s.position = b.position;
+  s.velocity = b.velocity;
+  s.angular_velocity = b.angular_velocity;
+  s.rotation_axis = b.rotation_axis;
+  s.rotation_angle_deg = b.rotation_angle_deg;
+  s.driven = b.driven;
+  s.bodies[i] = old;
+  // World indices: 0 the object, k + 1 bodies[k]; the two swapped bodies trade theirs.
+  const auto swapped = [i](int k) { return k == 0 ? i + 1 : k == i + 1 ? 0 : k; };
+  for (BodyPairFriction& f : s.friction_pairs) {
+    f.a = swapped(f.a);
+    f.b = swapped(f.b);
+  }
+  return s;
+}
+
 MaterialField SceneWorld::materials(const MaterialField& object, const std::string& source) const {
   validate_material_field(object, bodies.front().num_elements(), source);
   const int n = object.size(), m = fixed_materials.size();
@@ -145,7 +188,7 @@ MaterialField SceneWorld::materials(const MaterialField& object, const std::stri
 SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
   SceneWorld w;
   Body object;
-  object.name = "object";
+  object.name = scene.object_name == "object" ? "object" : "'" + scene.object_name + "'";
   object.vertex_end = object_mesh.num_vertices();
   object.element_end = object_mesh.num_tets();
   object.centre = scene.position;

@@ -403,7 +403,7 @@ namespace {
 
 // rbaa attack designs the object among the further bodies, which keep their material, and scores
 // the objective on any of them; rbaa study still refuses them (its measures are the object's
-// alone), and rbaa evaluate refuses an attack on another body than the object.
+// alone), and rbaa evaluate evaluates an attack on another body in that body's place.
 TEST_F(CliSimulate, AttackDesignsTheObjectAmongFurtherBodiesAndStudyRefusesThem) {
   const std::string config = write_config("two_balls.yaml", kTwoBalls);
   const Result a = run("attack --config=" + config + " --out=" + path("a") + " --iterations=2" +
@@ -430,12 +430,26 @@ TEST_F(CliSimulate, AttackDesignsTheObjectAmongFurtherBodiesAndStudyRefusesThem)
 
   expect_failure("study --config=" + config + " --out=" + path("st"),
                  "key 'bodies': rbaa study measures the object in a scene of its own");
+  // An attack on the target designs the target; rbaa evaluate puts its object in the target's
+  // place (and refuses the object's design there: another surface).
   const std::string on_target =
       write_config("on_target.yaml", std::string(kTwoBalls) + "attack: {body: target}\n");
-  expect_failure(
-      "evaluate --config=" + on_target + " --adversarial=" + path("a/adversarial.msh") +
-          " --out=" + path("e"),
-      "key 'attack.body': rbaa evaluate puts the adversarial object in the object's place");
+  const Result t = run("attack --config=" + on_target + " --out=" + path("t") + " --iterations=2");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  expect_failure("evaluate --config=" + on_target + " --adversarial=" + path("a/adversarial.msh") +
+                     " --time_step=0.004 --duration=0.06 --out=" + path("e"),
+                 "adversarial mesh: the adversarial object's bounding box differs");
+  const Result e = run("evaluate --config=" + on_target + " --adversarial=" +
+                       path("t/adversarial.msh") +
+                       " --time_step=0.004 --duration=0.06 --soft_control=false --out=" + path("e"));
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.err.find("(the attacked body 'target')"), std::string::npos) << e.err;
+  std::ifstream ev_in(path("e/report.json"));
+  const auto ev = nlohmann::json::parse(ev_in);
+  EXPECT_EQ(ev["compared_body"], "target") << ev.dump();
+  // Same surface and moments: the rigid twins agree.
+  EXPECT_LT(ev["rigid_vs_rigid"]["max_com_gap_m"].get<double>(), 1e-9) << ev["rigid_vs_rigid"].dump();
+  EXPECT_EQ(ev["rigid_identical"], true);
 }
 
 }  // namespace

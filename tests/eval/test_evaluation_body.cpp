@@ -5,14 +5,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "rbaa/scene/scene_world.hpp"
 
 namespace rbaa {
 namespace {
@@ -94,7 +97,55 @@ TEST(EvaluationBody, AnUnknownBodyIsRefusedNamingTheBodies) {
     EXPECT_NE(what.find("'bal' names no body (the bodies are: object, ball)"), std::string::npos)
         << what;
   }
-  EXPECT_EQ(parse_scene(struck_ball_yaml("object"), "struck_ball.yaml", "").evaluation_body, "");
+  EXPECT_EQ(parse_scene(struck_ball_yaml("object"), "struck_ball.yaml", "").evaluation_body,
+            "object");
+}
+
+// attack.body (issue 19: any body may be the attacked one): rbaa evaluate puts the attacked body
+// in the object's place (swap_object) and evaluates its adversarial object there. The same runs as
+// without the swap, up to the order of the stacked bodies: the struck ball's paths agree to
+// round-off, rigid and deformable, and the driven cube stays kinematic.
+TEST(EvaluationBody, AnAttackOnAFurtherBodyIsEvaluatedInItsPlace) {
+  const Scene scene = parse_scene(struck_ball_yaml("ball") + "attack: {body: ball}\n",
+                                  "struck_ball.yaml", "");
+  const TetMesh cube = make_scene_mesh(scene);
+  // Without the swap the object (the cube) would stand where the ball's design goes.
+  try {
+    evaluate(scene, cube, cube, MaterialField::uniform(cube.num_tets(), 1e10, 0.3, 1000, 1.0));
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the attacked body 'ball' is not the object 'object'"),
+              std::string::npos)
+        << e.what();
+  }
+  EvaluationOptions options;
+  options.soft_control = false;
+  // The ball as the adversary of itself, unswapped (the cube's design is the reference) ...
+  Scene plain = scene;
+  plain.attack_body = "object";
+  const Evaluation a = evaluate(
+      plain, cube, cube, MaterialField::uniform(cube.num_tets(), 1e10, 0.3, 1000, 1.0), options);
+  // ... and in the object's place.
+  const Scene swapped = swap_object(scene, "ball");
+  EXPECT_EQ(swapped.evaluation_body, "ball");  // now the object's name
+  const TetMesh ball = make_scene_mesh(swapped);
+  EXPECT_EQ(ball.num_tets(), make_body_mesh(scene, scene.bodies[0]).num_tets());
+  const Evaluation b = evaluate(
+      swapped, ball, ball, MaterialField::uniform(ball.num_tets(), 1e10, 0.3, 1000, 1.0), options);
+  for (const auto& [x, y] : {std::pair{&a.rigid_reference, &b.rigid_reference},
+                             std::pair{&a.deformable_reference, &b.deformable_reference},
+                             std::pair{&a.deformable_adversarial, &b.deformable_adversarial}}) {
+    ASSERT_EQ(x->position.size(), y->position.size()) << x->name;
+    double gap = 0;
+    for (std::size_t k = 0; k < x->position.size(); ++k) {
+      gap = std::max(gap, (x->position[k] - y->position[k]).norm());
+    }
+    std::printf("%-24s ball path, object vs swapped: max gap %.3g m\n", x->name.c_str(), gap);
+    EXPECT_LT(gap, 1e-9) << x->name;
+    EXPECT_GT(y->velocity.back().y(), 2.0) << y->name;  // struck back by the driven cube
+  }
+  EXPECT_EQ(a.time_step, b.time_step);
+  EXPECT_EQ(a.kappa, b.kappa);
 }
 
 }  // namespace

@@ -224,5 +224,80 @@ TEST(SceneFriction, PairsOfBodiesTakeTheirOwnCoefficientOrTheContactDefault) {
   }
 }
 
+
+// swap_object puts a further body in the object's place (rbaa evaluate and export, for an attack
+// on attack.body): the same world with the two bodies' blocks traded, pairs' coefficients
+// following their bodies, kappa frozen at the original object's; swapping back
+// gives the original scene's world bit for bit.
+TEST(SceneBodies, SwapObjectPutsABodyInTheObjectsPlaceAndBack) {
+  const std::string three = two_cubes(
+      "  - name: third\n"
+      "    mesh: {shape: cube, side: 0.05, target_tets: 100}\n"
+      "    position: [0, 0.3, 0]\n"
+      "    rotation: {axis: [0, 0, 1], angle_deg: 30}\n"
+      "contact:\n  friction: 0.2\n  pairs:\n"
+      "    - {bodies: [third, object], friction: 0.6}\n"
+      "    - {bodies: [third, second], friction: 0.1}\n");
+  const Scene s = parse_scene(three, "test.yaml", "");
+  const Scene t = swap_object(s, "third");
+  EXPECT_EQ(t.object_name, "third");
+  EXPECT_EQ(body_name(t, 0), "third");
+  EXPECT_EQ(body_name(t, 2), "object");
+  EXPECT_EQ(t.kappa, scene_barrier_stiffness(s, make_scene_mesh(s)));
+  ASSERT_GT(t.kappa, 0);
+  const SceneWorld w = make_world(s, make_scene_mesh(s));
+  const SceneWorld u = make_world(t, make_scene_mesh(t));
+  ASSERT_EQ(u.bodies.size(), 3u);
+  // World index k of s is index perm[k] of t.
+  const int perm[3] = {2, 1, 0};
+  for (int k = 0; k < 3; ++k) {
+    const Body& a = w.bodies[k];
+    const Body& b = u.bodies[perm[k]];
+    ASSERT_EQ(a.num_vertices(), b.num_vertices()) << k;
+    ASSERT_EQ(a.num_elements(), b.num_elements()) << k;
+    EXPECT_EQ(w.mesh.V.middleRows(a.vertex_begin, a.num_vertices()),
+              u.mesh.V.middleRows(b.vertex_begin, b.num_vertices()))
+        << k;
+    EXPECT_EQ(a.velocity, b.velocity) << k;
+    EXPECT_EQ(a.angular_velocity, b.angular_velocity) << k;
+    EXPECT_EQ(a.centre, b.centre) << k;
+  }
+  const Eigen::MatrixXd mu = body_friction(s), nu = body_friction(t);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(mu(i, j), nu(perm[i], perm[j])) << i << ", " << j;
+  }
+  EXPECT_EQ(mu(0, 2), 0.6);
+  // Back: the original world, bit for bit; evaluation.body naming the object comes back empty.
+  Scene back = swap_object(t, "object");
+  EXPECT_EQ(back.object_name, "object");
+  const SceneWorld v = make_world(back, make_scene_mesh(back));
+  EXPECT_EQ(v.mesh.V, w.mesh.V);
+  EXPECT_EQ(v.mesh.T, w.mesh.T);
+  EXPECT_EQ(body_friction(back), mu);
+  // The object itself: the scene unchanged.
+  EXPECT_EQ(swap_object(s, "object").object_name, "object");
+  EXPECT_EQ(swap_object(s, "object").bodies[1].name, "third");
+}
+
+TEST(SceneBodies, SwapObjectRefusesAMissingBodyAndOneWithAMaterialsFile) {
+  const Scene s = parse_scene(two_cubes(), "test.yaml", "");
+  try {
+    swap_object(s, "fourth");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "test.yaml: no body named 'fourth' to put in the object's place");
+  }
+  Scene with_file = s;
+  with_file.bodies[0].materials_file = "second.msh";
+  try {
+    swap_object(with_file, "second");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("body 'second' has a materials file (second.msh)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rbaa

@@ -163,6 +163,9 @@ struct Range {
 struct Scene {
   std::string name;
   std::string source;  ///< file the scene was loaded from (for error messages)
+  /// The name of the first body (the `object` key's): "object" in every config; the name of a
+  /// further body once swap_object (scene_world.hpp) has put that body in the object's place.
+  std::string object_name = "object";
 
   MeshSource mesh;
 
@@ -203,8 +206,8 @@ struct Scene {
   double evaluation_baseline_tolerance = 0.005;
   int evaluation_max_refinements = 3;
   /// evaluation.body: the body whose centre of mass `rbaa evaluate` compares between runs (gaps,
-  /// velocity angles): "" (or "object") the object; else a further body's name (the bat's struck
-  /// ball).
+  /// velocity angles): "" the object (after swap_object: the attacked body in its place), else a
+  /// body's name, "object" included (the bat's struck ball).
   std::string evaluation_body;
   /// demonstration: the predicate and figure `rbaa evaluate` reports per run (outcome table).
   DemonstrationSpec demonstration;
@@ -278,6 +281,10 @@ struct Scene {
 /// config's folder. Throws rbaa::InputError naming the file and key on unknown keys, wrong types,
 /// NaN or out-of-range values.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// The name of body `index` of the scene's world: scene.object_name for 0, bodies[index - 1].name
+/// after it.
+std::string body_name(const Scene& scene, int index);
 
 /// Parses a scene from YAML text; `source` names it in errors and `base_dir` resolves paths.
 Scene parse_scene(const std::string& yaml_text, const std::string& source,

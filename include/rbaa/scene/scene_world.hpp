@@ -1,6 +1,7 @@
 #pragma once
 // What scene/ derives from a config for the simulator: its settings and its barrier stiffness.
 
+#include <string>
 #include <vector>
 
 #include "rbaa/material/design_space.hpp"
@@ -54,6 +55,16 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh);
 /// The bodies a simulation of the world needs in its settings: all of them when there are several
 /// or one is driven, else none (the whole mesh is the one body).
 std::vector<Body> simulated_bodies(const SceneWorld& world);
+
+/// The same physical scene with body `name` in the object's place: the object's keys (mesh,
+/// pose, motion, drive) and bodies[i]'s trade places, object_name becomes `name` and the old
+/// object a body named after the old object_name; contact.pairs follow their bodies (names such as
+/// evaluation.body's need nothing: an empty one means the object, now body `name`), and an automatic kappa is frozen at the original scene's (the energy rule reads the
+/// object's speed and mass, and an attack on body i ran with it). What reads the object (the
+/// verbs that place an adversarial object, the rigid twin, the traces) then reads body `name`.
+/// `name` == scene.object_name returns the scene. Throws rbaa::InputError naming the scene when
+/// there is no such body, or when it has a materials file (the object's materials are a run's).
+Scene swap_object(const Scene& scene, const std::string& name);
 
 /// The design space a scene's attack section asks for: ranges, fields, initial values, alpha0,
 /// seed, perturbation, boundary rule.
