@@ -237,8 +237,9 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
     e.body = t->body;
     e.other = t->other;
     e.first_step = t->first;
-    e.last_step = t->first;
-    while (e.last_step + 1 < num_positions && t->in_contact[e.last_step + 1]) ++e.last_step;
+    // The run of positions in contact from the first: up to the next one out of it, or the end.
+    const auto from = t->in_contact.begin() + t->first;
+    e.last_step = t->first + static_cast<int>(std::find(from, t->in_contact.end(), 0) - from) - 1;
     e.complete = e.first_step > 0 && e.last_step + 1 < num_positions;
     e.out_step = std::min(e.last_step + 1, num_positions - 1);
     auto quiet = [&](int k) {

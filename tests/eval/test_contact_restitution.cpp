@@ -213,6 +213,66 @@ TEST(ContactRestitution, ThePairsFittedRestitutionMakesTheTwinBallsLeaveAsTheDef
   EXPECT_NEAR(states[0].back().velocity.y() + states[1].back().velocity.y(), 1.0, 1e-6);
 }
 
+// A pair's outgoing velocity is read once both of its bodies are free: the object strikes the
+// ball 'struck' (the pair's second body), which 4 steps later strikes 'far' (a body before it in
+// the list, so the later pair names 'struck' second too). The first pair's reading stops before
+// that contact instead of reading a velocity the second impact has already changed.
+TEST(ContactRestitution, APairsReadingStopsWhenItsSecondBodyTouchesAnother) {
+  const Scene scene = parse_scene(
+      "mesh: {shape: sphere, radius: 0.05, target_tets: 300}\n"
+      "object: {position: [0, 0, 0], velocity: [0, 2.0, 0]}\n"
+      "bodies:\n"
+      "  - {name: far, mesh: {shape: sphere, radius: 0.05, target_tets: 300}, "
+      "position: [0, 0.235, 0]}\n"
+      "  - {name: struck, mesh: {shape: sphere, radius: 0.05, target_tets: 300}, "
+      "position: [0, 0.12, 0]}\n"
+      "gravity: off\n"
+      "time: {step: 0.002, duration: 0.05}\n"
+      "reference_material: {Y: 5.0e9, nu: 0.3, rho: 1000}\n"
+      "material_bounds: {Y: [2.5e9, 1.0e11]}\n",
+      "three_balls.yaml", dir());
+  const TetMesh mesh = make_scene_mesh(scene);
+  const SimulationRun run =
+      run_simulation(scene, mesh, MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0));
+  const std::vector<ContactEpisode> episodes =
+      first_contact_episodes(run, scene.obstacle_meshes, scene.planes, scene.d_hat);
+  const ContactEpisode* strike = nullptr;
+  const ContactEpisode* next = nullptr;
+  for (const ContactEpisode& e : episodes) {
+    ASSERT_EQ(e.kind, ContactEpisode::Kind::kBodies);
+    if (e.body == 0 && e.other == 2) strike = &e;
+    if (e.body == 1 && e.other == 2) next = &e;
+  }
+  ASSERT_NE(strike, nullptr);
+  ASSERT_NE(next, nullptr);
+  std::printf("object-struck in contact at positions %d-%d, struck-far from %d; read at %d\n",
+              strike->first_step, strike->last_step, next->first_step, strike->out_step);
+  ASSERT_TRUE(strike->complete);
+  // The second contact starts within the 5 settling steps, so the reading must stop early.
+  ASSERT_LT(next->first_step, strike->last_step + 1 + 5);
+  ASSERT_GT(next->first_step, strike->last_step + 1);
+  EXPECT_EQ(strike->out_step, next->first_step - 1);
+  // The same run cut at the second contact's first position: that episode lasts to the end and
+  // is incomplete.
+  Scene cut = scene;
+  cut.duration = next->first_step * scene.time_step;
+  const SimulationRun short_run =
+      run_simulation(cut, mesh, MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0));
+  const int last = static_cast<int>(short_run.trajectory.grid_frames().size()) - 1;
+  ASSERT_EQ(last, next->first_step);
+  int found = 0;
+  for (const ContactEpisode& e :
+       first_contact_episodes(short_run, cut.obstacle_meshes, cut.planes, cut.d_hat)) {
+    if (e.body != 1) continue;
+    ++found;
+    EXPECT_EQ(e.first_step, last);
+    EXPECT_EQ(e.last_step, last);
+    EXPECT_EQ(e.out_step, last);
+    EXPECT_FALSE(e.complete);
+  }
+  EXPECT_EQ(found, 1);
+}
+
 TEST(ContactRestitution, ABadEpisodeIsOneLineNamingTheScene) {
   const Scene scene = parse_scene(two_balls_yaml(), "two_balls.yaml", dir());
   SimulationRun run;
