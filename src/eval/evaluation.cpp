@@ -169,6 +169,17 @@ void check_same_surface(const TetMesh& reference, const TetMesh& adversarial, co
   }
 }
 
+// The report's names of contacts: "mesh backboard" (the file's stem, else its index),
+// "bodies object-ball" (body 0 the object, i + 1 scene.bodies[i]).
+std::string mesh_contact_name(const Scene& scene, int mesh) {
+  const std::string stem =
+      std::filesystem::path(scene.obstacle_meshes.at(mesh).file).stem().string();
+  return "mesh " + (stem.empty() ? std::to_string(mesh) : stem);
+}
+std::string bodies_contact_name(const Scene& scene, int a, int b) {
+  return "bodies " + body_name(scene, a) + "-" + body_name(scene, b);
+}
+
 }  // namespace
 
 RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
@@ -360,12 +371,10 @@ RestitutionCalibration calibrate_contact_restitution(
   c.body_a = episode.body;
   if (mesh) {
     c.mesh = episode.other;
-    const ObstacleMesh& m = scene.obstacle_meshes[episode.other];
-    const std::string stem = std::filesystem::path(m.file).stem().string();
-    c.name = "mesh " + (stem.empty() ? std::to_string(episode.other) : stem);
+    c.name = mesh_contact_name(scene, episode.other);
   } else {
     c.body_b = episode.other;
-    c.name = "bodies " + body_name(scene, episode.body) + "-" + body_name(scene, episode.other);
+    c.name = bodies_contact_name(scene, episode.body, episode.other);
   }
   const double h = scene.time_step;
   c.time = episode.first_step * h;
@@ -581,19 +590,35 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   return out;
 }
 
-// Whether every surface pair of the scene has the coefficient contact.friction: planes, obstacle
-// meshes and the pairs of bodies contact.pairs names.
-bool uniform_friction(const Scene& scene) {
-  for (const Plane& p : scene.planes) {
-    if (p.friction != scene.friction) return false;
+// What the twins' Bullet world gives each plane, obstacle mesh and pair of its `num_bodies` bodies:
+// asked of the world rigid_world builds, so that the report says what the twin used.
+std::vector<TwinFriction> twin_friction(const Scene& scene, int num_bodies) {
+  const RigidWorld world = rigid_world(scene, std::vector<RigidBody>(num_bodies));
+  using Side = RigidContactSide;
+  const Side object{Side::Kind::kBody, 0};
+  std::vector<TwinFriction> out;
+  for (int i = 0; i < static_cast<int>(world.planes.size()); ++i) {
+    TwinFriction f{RestitutionContact::kPlane, "plane " + std::to_string(i)};
+    f.plane = i;
+    f.friction = rigid_friction(world, object, {Side::Kind::kPlane, i});
+    out.push_back(f);
   }
-  for (const ObstacleMesh& m : scene.obstacle_meshes) {
-    if (m.friction != scene.friction) return false;
+  for (int i = 0; i < static_cast<int>(world.obstacle_meshes.size()); ++i) {
+    TwinFriction f{RestitutionContact::kMesh, mesh_contact_name(scene, i)};
+    f.mesh = i;
+    f.friction = rigid_friction(world, object, {Side::Kind::kMesh, i});
+    out.push_back(f);
   }
-  for (const BodyPairFriction& f : scene.friction_pairs) {
-    if (f.friction != scene.friction) return false;
+  for (int a = 0; a < num_bodies; ++a) {
+    for (int b = a + 1; b < num_bodies; ++b) {
+      TwinFriction f{RestitutionContact::kBodies, bodies_contact_name(scene, a, b)};
+      f.body_a = a;
+      f.body_b = b;
+      f.friction = rigid_friction(world, {Side::Kind::kBody, a}, {Side::Kind::kBody, b});
+      out.push_back(f);
+    }
   }
-  return true;
+  return out;
 }
 
 }  // namespace
@@ -676,13 +701,9 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   // (or the refinements run out: then the finest step is used and the report says so).
   SimulationOptions sim_options;
   sim_options.kappa = ev.kappa;
-  // Bullet takes one Coulomb coefficient for every contact: the scene's contact.friction when
-  // every plane, mesh and pair of bodies has it (0 in a frictionless scene); otherwise the
-  // caller's (default 0), and the report says the twin's friction is not the scene's.
-  RigidSettings rigid_settings = options.rigid;
-  ev.rigid_friction_from_scene = uniform_friction(scene_in);
-  if (ev.rigid_friction_from_scene) rigid_settings.friction = scene_in.friction;
-  ev.rigid_friction = rigid_settings.friction;
+  // The twins take the scene's friction per plane, mesh and pair of bodies (rigid_world).
+  const RigidSettings rigid_settings = options.rigid;
+  ev.rigid_friction = twin_friction(scene_in, 1 + static_cast<int>(further.size()));
   const int refinements = search ? scene_in.evaluation_max_refinements : 0;
   BaselineAtStep chosen;
   for (int k = 0; k <= refinements; ++k) {

@@ -114,6 +114,25 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     }
     return j;
   };
+  // Every plane's, mesh's and pair of bodies' Coulomb coefficient in the twins, named as the
+  // calibrations name them.
+  nlohmann::json friction = nlohmann::json::array();
+  for (const TwinFriction& f : ev.rigid_friction) {
+    nlohmann::json j = {{"contact", f.name}, {"kind", restitution_contact_name(f.contact)}};
+    switch (f.contact) {
+      case RestitutionContact::kPlane:
+        j["plane"] = f.plane;
+        break;
+      case RestitutionContact::kMesh:
+        j["mesh"] = f.mesh;
+        break;
+      case RestitutionContact::kBodies:
+        j["bodies"] = {f.body_a, f.body_b};
+        break;
+    }
+    j["friction"] = f.friction;
+    friction.push_back(std::move(j));
+  }
   nlohmann::json calibration = nlohmann::json::array();
   for (const auto& c : ev.calibrations) {
     nlohmann::json j = contact_json(c);
@@ -177,8 +196,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                    {"adversarial", moments_json(ev.adversarial_moments)}}},
       {"rigid", {{"simulator", "Bullet (double precision), semi-implicit Euler"},
                  {"internal_step_s", ev.rigid_internal_step},
-                 {"friction", ev.rigid_friction},
-                 {"friction_from_scene", ev.rigid_friction_from_scene},
+                 {"friction", friction},
                  {"collision_shape", ev.rigid_shape}}},
       {"calibration", calibration},
       {"rigid_vs_rigid", comparison_json(ev.rigid_vs_rigid)},
@@ -211,11 +229,13 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
         << "Duration " << fmt(ev.duration) << " s, step " << fmt(ev.time_step) << " s (attack built at "
         << fmt(ev.attack_time_step) << " s). Rigid: Bullet ("
-        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step) << " s, friction "
-        << fmt(ev.rigid_friction)
-        << (ev.rigid_friction_from_scene ? " (the scene's contact.friction)"
-                                         : " (not the scene's: its surfaces' coefficients differ, and Bullet has one)")
-        << ". Compared: the "
+        << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step)
+        << " s, the scene's Coulomb friction per contact (";
+    for (size_t i = 0; i < ev.rigid_friction.size(); ++i) {
+      out << (i ? ", " : "") << ev.rigid_friction[i].name << " " << fmt(ev.rigid_friction[i].friction);
+    }
+    if (ev.rigid_friction.empty()) out << "nothing to touch";
+    out << "). Compared: the "
         << (scene.evaluation_body.empty() ? (scene.object_name == "object" ? std::string("object") : "body '" + scene.object_name + "'") : "body '" + scene.evaluation_body + "'")
         << "'s centre of mass.\n\n"
         << "Restitution per plane, obstacle mesh and pair of bodies, fitted to the deformable baseline's first "

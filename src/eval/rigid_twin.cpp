@@ -12,6 +12,9 @@ RigidWorld rigid_world(const Scene& scene, std::vector<RigidBody> bodies) {
   world.bodies = std::move(bodies);
   world.planes = scene.planes;
   world.obstacle_meshes = scene.obstacle_meshes;
+  // The planes and meshes carry their own coefficients (contact.friction's where they set none).
+  world.body_friction = scene.friction;
+  world.pair_friction = scene.friction_pairs;
   world.gravity = scene.gravity;
   world.time_step = scene.time_step;
   return world;

@@ -4,12 +4,14 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <memory>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 #include <utility>
 
@@ -51,18 +53,24 @@ std::pair<RigidContactSide, RigidContactSide> ordered(RigidContactSide x, RigidC
   return {x, y};
 }
 
-// Bullet's dynamics world with two things done between collision detection and the solve, where
-// the new contact points of the step exist but have no impulse yet:
-// * named pairs of bodies get their own restitution. Bullet otherwise gives a pair the product of
-//   the two objects' values (which cannot give ball-bat and ball-floor independent values once the
-//   ball's own factor is shared) or a process-wide callback (global state, shared by every world
-//   in the process); overwriting the points' combined restitution here touches only this world.
+// Bullet's dynamics world with three things done between collision detection and the solve,
+// where the new contact points of the step exist but have no impulse yet:
+// * every contact point gets its pair's Coulomb coefficient (rigid_friction), and named pairs of
+//   bodies their own restitution. Bullet otherwise gives a pair the product of the two objects'
+//   values (which cannot give ball-bat and ball-floor independent values once the ball's own
+//   factor is shared) or a process-wide callback (global state, shared by every world in the
+//   process); overwriting the points' combined values here touches only this world. The solver
+//   reads them when it converts the points into constraints (btSequentialImpulseConstraintSolver::
+//   convertContact, within the solve called below): m_combinedFriction becomes each friction
+//   row's bound, mu times the point's normal impulse; rolling and spinning friction rows exist
+//   only when m_combinedRollingFriction > 0, which stays 0 here.
 // * every pair with a point the solver will treat (distance <= the manifold's processing
 //   threshold, the solver's own test) is logged, for the calibration's contact episodes.
 class TwinDynamicsWorld : public btDiscreteDynamicsWorld {
  public:
   using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
 
+  const RigidWorld* model = nullptr;                       // its friction coefficients
   std::map<std::pair<int, int>, double> pair_restitution;  // (body a, body b), a < b
   bool log_touches = false;
   std::set<std::tuple<int, int, int, int>> touching;  // since the last clear: ordered pairs
@@ -73,6 +81,13 @@ class TwinDynamicsWorld : public btDiscreteDynamicsWorld {
       btPersistentManifold* m = dispatcher->getManifoldByIndexInternal(i);
       if (m->getNumContacts() == 0) continue;
       const auto [x, y] = ordered(side_of(*m->getBody0()), side_of(*m->getBody1()));
+      const double mu = rigid_friction(*model, x, y);
+      for (int p = 0; p < m->getNumContacts(); ++p) {
+        btManifoldPoint& point = m->getContactPoint(p);
+        point.m_combinedFriction = mu;
+        point.m_combinedRollingFriction = 0;
+        point.m_combinedSpinningFriction = 0;
+      }
       if (y.kind == RigidContactSide::Kind::kBody && !pair_restitution.empty()) {
         const auto it = pair_restitution.find({x.index, y.index});
         if (it != pair_restitution.end()) {
@@ -142,14 +157,15 @@ std::unique_ptr<btCollisionShape> make_child_shape(const RigidShape& shape, doub
   throw InputError("unknown rigid shape");
 }
 
-// A static obstacle: Bullet's mass-0 body, which never moves.
+// A static obstacle: Bullet's mass-0 body, which never moves. Its friction factor is 0: every
+// contact point gets its pair's coefficient before the solve (TwinDynamicsWorld).
 void add_obstacle(BulletWorld& w, std::unique_ptr<btCollisionShape> shape, double restitution,
-                  double friction, RigidContactSide side) {
+                  RigidContactSide side) {
   btRigidBody::btRigidBodyConstructionInfo ci(0.0, nullptr, shape.get());
+  ci.m_friction = 0;
   auto body = std::make_unique<btRigidBody>(ci);
   tag(*body, side);
   body->setRestitution(restitution);
-  body->setFriction(friction);
   w.world.addRigidBody(body.get());
   w.shapes.push_back(std::move(shape));
   w.bodies.push_back(std::move(body));
@@ -182,8 +198,8 @@ std::unique_ptr<btCollisionShape> make_mesh_shape(BulletWorld& w, const Obstacle
 // A dynamic body. Its Bullet frame is the principal frame at the centre of mass; the collision
 // shape, given in placed mesh coordinates, sits in it through the compound's child transform
 // y = A^T (x - c).
-btRigidBody* add_body(BulletWorld& w, const RigidBody& r, int index, const RigidSettings& settings,
-                      double friction) {
+btRigidBody* add_body(BulletWorld& w, const RigidBody& r, int index,
+                      const RigidSettings& settings) {
   if (r.kinematic) validate_prescribed_motion(r.drive, "rigid body " + r.name + "'s drive");
   const RigidMassProperties& mass = r.mass;
   if (!(mass.mass > 0) || !(mass.principal_moments.minCoeff() > 0)) {
@@ -206,7 +222,7 @@ btRigidBody* add_body(BulletWorld& w, const RigidBody& r, int index, const Rigid
   ci.m_linearDamping = 0;
   ci.m_angularDamping = 0;
   ci.m_restitution = settings.restitution;
-  ci.m_friction = friction;
+  ci.m_friction = 0;  // as an obstacle's (add_obstacle)
   auto body = std::make_unique<btRigidBody>(ci);
   tag(*body, {RigidContactSide::Kind::kBody, index});
   if (r.kinematic) {
@@ -274,7 +290,61 @@ void validate_restitutions(const RigidSettings& settings, int num_bodies) {
   }
 }
 
+// Throws unless every friction coefficient is a finite number >= 0 and every named pair names two
+// different bodies of the world, once.
+void validate_friction(const RigidWorld& world) {
+  auto check = [](double mu, const std::string& what) {
+    if (!(mu >= 0) || !std::isfinite(mu)) {
+      std::ostringstream msg;
+      msg << "rigid world: " << what << " must be a finite number >= 0, got " << mu;
+      throw InputError(msg.str());
+    }
+  };
+  for (size_t i = 0; i < world.planes.size(); ++i) {
+    check(world.planes[i].friction, "plane " + std::to_string(i) + "'s friction");
+  }
+  for (size_t i = 0; i < world.obstacle_meshes.size(); ++i) {
+    check(world.obstacle_meshes[i].friction, "obstacle mesh " + std::to_string(i) + "'s friction");
+  }
+  check(world.body_friction, "the friction between bodies");
+  const int num_bodies = static_cast<int>(world.bodies.size());
+  std::set<std::pair<int, int>> seen;
+  for (const BodyPairFriction& p : world.pair_friction) {
+    const std::string name =
+        "the friction of bodies (" + std::to_string(p.a) + ", " + std::to_string(p.b) + ")";
+    if (p.a < 0 || p.b < 0 || p.a >= num_bodies || p.b >= num_bodies || p.a == p.b) {
+      throw InputError("rigid world: " + name + " must name two different bodies of the " +
+                       std::to_string(num_bodies) + " in the world");
+    }
+    if (!seen.insert(std::minmax(p.a, p.b)).second) {
+      throw InputError("rigid world: " + name + " is given twice");
+    }
+    check(p.friction, name);
+  }
+}
+
 }  // namespace
+
+double rigid_friction(const RigidWorld& world, RigidContactSide first, RigidContactSide second) {
+  const auto [x, y] = ordered(first, second);
+  switch (y.kind) {
+    case RigidContactSide::Kind::kPlane:
+      return world.planes.at(y.index).friction;
+    case RigidContactSide::Kind::kMesh:
+      return world.obstacle_meshes.at(y.index).friction;
+    case RigidContactSide::Kind::kBody:
+      break;
+  }
+  const int num_bodies = static_cast<int>(world.bodies.size());
+  if (x.index < 0 || x.index >= num_bodies || y.index < 0 || y.index >= num_bodies) {
+    throw std::out_of_range("rigid_friction: no body " + std::to_string(x.index) + " or " +
+                            std::to_string(y.index) + " in the world");
+  }
+  for (const BodyPairFriction& p : world.pair_friction) {
+    if (std::minmax(p.a, p.b) == std::minmax(x.index, y.index)) return p.friction;
+  }
+  return world.body_friction;
+}
 
 std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
                                                     const RigidSettings& settings, double duration,
@@ -286,14 +356,14 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
         << world.time_step << " s and " << duration << " s";
     throw InputError(msg.str());
   }
-  if (!(settings.internal_step > 0) || !(settings.margin >= 0) || !(settings.friction >= 0)) {
+  if (!(settings.internal_step > 0) || !(settings.margin >= 0)) {
     std::ostringstream msg;
-    msg << "rigid settings: the internal step must be positive, the margin and friction not "
-        << "negative, got " << settings.internal_step << " s, " << settings.margin << " m and "
-        << settings.friction;
+    msg << "rigid settings: the internal step must be positive and the margin not negative, got "
+        << settings.internal_step << " s and " << settings.margin << " m";
     throw InputError(msg.str());
   }
   validate_restitutions(settings, static_cast<int>(world.bodies.size()));
+  validate_friction(world);
   if (touches) touches->clear();
   const double h = world.time_step;
   // The largest internal step not above the requested one that divides the output step.
@@ -319,23 +389,22 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
   // drops restitution for points older than two steps, which at small steps is every impact.
   info.m_restingContactRestitutionThreshold = std::numeric_limits<int>::max();
 
-  // Bullet's pair coefficient is the product of the two objects' (RigidSettings).
-  const double friction = std::sqrt(settings.friction);
   for (size_t p = 0; p < world.planes.size(); ++p) {
     const Plane& plane = world.planes[p];
     add_obstacle(w, std::make_unique<btStaticPlaneShape>(to_bt(plane.normal), plane.offset),
                  p < settings.plane_restitution.size() ? settings.plane_restitution[p] : 1.0,
-                 friction, {RigidContactSide::Kind::kPlane, static_cast<int>(p)});
+                 {RigidContactSide::Kind::kPlane, static_cast<int>(p)});
   }
   for (size_t m = 0; m < world.obstacle_meshes.size(); ++m) {
     add_obstacle(w, make_mesh_shape(w, world.obstacle_meshes[m]),
                  m < settings.mesh_restitution.size() ? settings.mesh_restitution[m] : 1.0,
-                 friction, {RigidContactSide::Kind::kMesh, static_cast<int>(m)});
+                 {RigidContactSide::Kind::kMesh, static_cast<int>(m)});
   }
   std::vector<btRigidBody*> bodies;
   for (size_t b = 0; b < world.bodies.size(); ++b) {
-    bodies.push_back(add_body(w, world.bodies[b], static_cast<int>(b), settings, friction));
+    bodies.push_back(add_body(w, world.bodies[b], static_cast<int>(b), settings));
   }
+  w.world.model = &world;
   for (const BodyPairRestitution& p : settings.pair_restitution) {
     w.world.pair_restitution[std::minmax(p.a, p.b)] = p.restitution;
   }

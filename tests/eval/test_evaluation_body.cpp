@@ -70,6 +70,12 @@ TEST(EvaluationBody, TheNamedBodysCentreOfMassIsComparedAndADrivenObjectIsKinema
   }
   ASSERT_NE(strike, nullptr);
   EXPECT_EQ(strike->name, "bodies object-ball");
+  // The twins' friction, named as the calibrations: the one pair, frictionless as the scene.
+  ASSERT_EQ(ev.rigid_friction.size(), 1u);
+  EXPECT_EQ(ev.rigid_friction[0].name, "bodies object-ball");
+  EXPECT_EQ(ev.rigid_friction[0].body_a, 0);
+  EXPECT_EQ(ev.rigid_friction[0].body_b, 1);
+  EXPECT_EQ(ev.rigid_friction[0].friction, 0.0);
   EXPECT_TRUE(strike->calibrated);
   std::printf("cube-ball restitution %.6f (baseline rebound %.6f)\n", strike->restitution,
               strike->deformable_rebound);

@@ -8,10 +8,13 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "rbaa/eval/evaluation.hpp"
 #include "rbaa/scene/scene.hpp"
@@ -88,9 +91,10 @@ TEST(EvaluationDemonstration, AHoopTheBallMissesIsFalseForEveryRun) {
     EXPECT_FALSE(o.predicate.holds) << o.run << ": " << o.predicate.detail;
 }
 
-TEST(EvaluationDemonstration, TheRigidTwinSlidesWithTheScenesFrictionWhenEverySurfaceHasIt) {
-  // A cube sliding at 1 m/s on a floor with mu = 0.4 decelerates at mu g = 3.92 m/s^2: after
-  // 0.2 s it moves at 0.216 m/s, in Bullet as on the FEM mesh.
+TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
+  // A cube sliding at 1 m/s on a floor with mu decelerates at mu g: after 0.2 s it moves at
+  // 1 - 0.2 mu g m/s, in Bullet as on the FEM mesh. The floor has contact.friction's 0.4, or
+  // its own 0.3 (0.412 m/s after 0.2 s, where 0.4 leaves 0.216 m/s).
   const std::string yaml =
       "mesh: {shape: cube, side: 0.1, target_tets: 200}\n"
       "object: {position: [0, 0, 0.0515], velocity: [0, 1, 0]}\n"
@@ -112,16 +116,32 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithTheScenesFrictionWhenEverySu
                                                     scene.reference_rho, 1.0);
   EvaluationOptions options;
   options.soft_control = false;
-  const Evaluation ev = evaluate(scene, mesh, mesh, same, options);
-  EXPECT_TRUE(ev.rigid_friction_from_scene);
-  EXPECT_DOUBLE_EQ(ev.rigid_friction, 0.4);
-  const double expected = 1.0 - 0.4 * 9.8 * 0.2;
-  EXPECT_NEAR(ev.rigid_reference.velocity.back().y(), expected, 0.03);
-  EXPECT_NEAR(ev.deformable_reference.velocity.back().y(), expected, 0.03);
-  // Coefficients that differ (the floor's own 0.3): Bullet's one coefficient is not the scene's.
-  const Evaluation mixed = evaluate(with("0.4", "0.3"), mesh, mesh, same, options);
-  EXPECT_FALSE(mixed.rigid_friction_from_scene);
-  EXPECT_DOUBLE_EQ(mixed.rigid_friction, 0.0);
+  for (const auto& [plane_friction, mu] : {std::pair<std::string, double>{"", 0.4}, {"0.3", 0.3}}) {
+    const Scene s = with("0.4", plane_friction);
+    const Evaluation ev = evaluate(s, mesh, mesh, same, options);
+    ASSERT_EQ(ev.rigid_friction.size(), 1u);
+    EXPECT_EQ(ev.rigid_friction[0].name, "plane 0");
+    EXPECT_EQ(ev.rigid_friction[0].contact, RestitutionContact::kPlane);
+    EXPECT_EQ(ev.rigid_friction[0].plane, 0);
+    EXPECT_DOUBLE_EQ(ev.rigid_friction[0].friction, mu);
+    const double expected = 1.0 - mu * 9.8 * 0.2;
+    std::printf("floor mu = %.1f: after 0.2 s rigid %.4f m/s, deformable %.4f m/s (Coulomb %.4f)\n", mu,
+                ev.rigid_reference.velocity.back().y(), ev.deformable_reference.velocity.back().y(), expected);
+    EXPECT_NEAR(ev.rigid_reference.velocity.back().y(), expected, 0.03);
+    EXPECT_NEAR(ev.deformable_reference.velocity.back().y(), expected, 0.03);
+    // report.json's rigid.friction: every contact with its coefficient, named as the calibrations.
+    const std::string dir = ::testing::TempDir() + "/rbaa_eval_friction_" + std::to_string(::getpid());
+    write_evaluation(ev, s, dir);
+    std::ifstream in(dir + "/report.json");
+    const auto report = nlohmann::json::parse(in);
+    const nlohmann::json& friction = report["rigid"]["friction"];
+    ASSERT_EQ(friction.size(), 1u) << friction.dump();
+    EXPECT_EQ(friction[0]["contact"], "plane 0");
+    EXPECT_EQ(friction[0]["kind"], "plane");
+    EXPECT_EQ(friction[0]["plane"], 0);
+    EXPECT_DOUBLE_EQ(friction[0]["friction"].get<double>(), mu);
+    std::filesystem::remove_all(dir);
+  }
 }
 
 }  // namespace

@@ -39,7 +39,8 @@ struct RunComparison {
   double orientation_gap_deg = 0; ///< angle of R_a(T) R_b(T)^T
 };
 
-/// What a fitted restitution belongs to: a plane, an obstacle mesh or a pair of bodies.
+/// What a fitted restitution (or a twin's friction) belongs to: a plane, an obstacle mesh or a
+/// pair of bodies.
 enum class RestitutionContact { kPlane, kMesh, kBodies };
 
 /// "plane", "mesh", "bodies" (report.json's names).
@@ -69,6 +70,17 @@ struct RestitutionCalibration {
   double restitution = 1.0;       ///< the Bullet restitution that achieves it
   int iterations = 0;
   std::vector<double> later_deformable_rebounds;  ///< restitutions of later one-plane bounces
+};
+
+/// The Coulomb coefficient the rigid twins give one plane, obstacle mesh or pair of bodies: every
+/// contact point between them gets exactly this (RigidWorld).
+struct TwinFriction {
+  RestitutionContact contact = RestitutionContact::kPlane;  ///< which kind of contact
+  std::string name;  ///< as a calibration's: "plane 0", "mesh backboard", "bodies object-ball"
+  int plane = -1;    ///< kPlane: RigidWorld::planes index
+  int mesh = -1;     ///< kMesh: RigidWorld::obstacle_meshes index
+  int body_a = -1, body_b = -1;  ///< kBodies: RigidWorld::bodies indices, a < b
+  double friction = 0;
 };
 
 /// A deformable run against a rigid twin calibrated to that run itself: the same object's rigid
@@ -101,8 +113,8 @@ struct EvaluationOptions {
   /// modulus (same moments): the share of a gap that softness alone explains.
   bool soft_control = true;
   std::ostream* progress = nullptr;  ///< one line per step tried by the search
-  /// Plane, mesh and body-pair restitutions are overwritten by the calibration, and the friction by the scene's
-  /// contact.friction when every surface has it (Evaluation::rigid_friction).
+  /// Plane, mesh and body-pair restitutions are overwritten by the calibration; friction is the
+  /// scene's, per plane, mesh and pair of bodies (rigid_world, Evaluation::rigid_friction).
   RigidSettings rigid;
   double calibration_tolerance = 1e-3;  ///< relative rebound mismatch accepted
 };
@@ -117,11 +129,9 @@ struct Evaluation {
   Moments reference_moments, adversarial_moments;
   std::string rigid_shape;        ///< which Bullet collision shape, and why
   double rigid_internal_step = 0;
-  /// The twins' Coulomb coefficient (Bullet has one for every contact): contact.friction when
-  /// the scene's planes, meshes and pairs of bodies all have it (rigid_friction_from_scene),
-  /// else EvaluationOptions::rigid.friction.
-  double rigid_friction = 0;
-  bool rigid_friction_from_scene = false;
+  /// The twins' Coulomb coefficient of every plane, obstacle mesh and pair of bodies (the
+  /// scene's: rigid_world), in that order, as the twins' Bullet world gives it.
+  std::vector<TwinFriction> rigid_friction;
   /// One per plane the baseline bounces off, obstacle mesh it meets and pair of bodies that
   /// touch, in the order of their first contacts (each fitted with the earlier values in place). A single restitution cannot reproduce BDF-2's
   /// rebounds, which depend on where in a step the impact falls (SPEC section 2).

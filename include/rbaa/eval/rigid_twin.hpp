@@ -10,7 +10,10 @@
 
 namespace rbaa {
 
-/// The scene's planes, obstacle meshes, gravity and time step around `bodies` (the object first).
+/// The scene's planes, obstacle meshes, gravity and time step around `bodies` (the object first,
+/// then scene.bodies' twins), with the scene's Coulomb coefficients: each plane's and mesh's own,
+/// contact.friction between bodies and contact.pairs for the pairs it names, as the deformable
+/// simulator has them.
 RigidWorld rigid_world(const Scene& scene, std::vector<RigidBody> bodies);
 
 /// The object's states at t = 0, h, 2h, ... (h = scene.time_step) over `duration` seconds: the

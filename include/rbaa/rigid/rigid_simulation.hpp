@@ -20,13 +20,13 @@ struct BodyPairRestitution {
   double restitution = 1.0;
 };
 
-/// Bullet combines the coefficients of the two objects in a contact by their product. Every
-/// object (body, plane, mesh) gets sqrt(friction), so that every pair, body-obstacle and
-/// body-body alike, has the Coulomb coefficient `friction`. Restitution is a product too: a body
+/// Bullet combines the restitutions of the two objects in a contact by their product: a body
 /// against obstacle i has restitution * plane_restitution[i] (or mesh_restitution[i]); two bodies
 /// have restitution^2, unless pair_restitution names the pair: then exactly its value (a product
 /// of per-body factors cannot give every pair its own value, so the twin overwrites the pair's
-/// contact points before each solve).
+/// contact points before each solve). Friction is not here but in RigidWorld: it is the scene's
+/// physical coefficient, the deformable simulator's too, while these are the twin's numerics and
+/// its fitted (calibrated) restitutions.
 struct RigidSettings {
   double internal_step = 1e-3;  ///< Bullet's fixed step (s); outputs are sampled at the world's h
   double restitution = 1.0;     ///< body restitution; Bullet multiplies it with the obstacle's
@@ -36,9 +36,8 @@ struct RigidSettings {
   std::vector<double> mesh_restitution;
   /// Restitution of named pairs of bodies, in place of restitution^2; at most one entry a pair.
   std::vector<BodyPairRestitution> pair_restitution;
-  double friction = 0.0;  ///< Coulomb coefficient of every contact (see above)
-  double margin = 1e-4;   ///< collision margin (m), at most d_hat (Bullet's 0.04 m default
-                          ///< is nearly the cube's half size)
+  double margin = 1e-4;  ///< collision margin (m), at most d_hat (Bullet's 0.04 m default
+                         ///< is nearly the cube's half size)
   /// Split impulse with a generous penetration threshold: Bullet's default Baumgarte correction
   /// (erp 0.2) pushes bodies apart with extra energy and spoils the restitution.
   bool split_impulse = true;
@@ -47,12 +46,23 @@ struct RigidSettings {
 
 /// What the twin simulates: bodies (the object first) among static obstacles under gravity,
 /// sampled every time_step.
+///
+/// Coulomb friction is given per pair of surfaces, as the deformable simulator has it: a body
+/// against plane i has planes[i].friction, against obstacle mesh i obstacle_meshes[i].friction,
+/// two bodies pair_friction's value when it names them, else body_friction. Each contact point
+/// gets exactly its pair's coefficient, not Bullet's product of per-object factors (a plane with
+/// friction, which every body meets with the same mu, would force the bodies' factors equal, and
+/// so one coefficient on every pair of bodies); no rolling or spinning friction.
 struct RigidWorld {
   std::vector<RigidBody> bodies;
   std::vector<Plane> planes;
   std::vector<ObstacleMesh> obstacle_meshes;  ///< V and F are used (placed), open surfaces too
-  Eigen::Vector3d gravity{0.0, 0.0, -9.8};    ///< m/s^2
-  double time_step = 0.01;                    ///< h between output samples (s)
+  double body_friction = 0.0;                 ///< Coulomb coefficient of pairs of bodies
+  /// Coefficients of named pairs of bodies (indices in `bodies`), in place of body_friction; at
+  /// most one entry a pair.
+  std::vector<BodyPairFriction> pair_friction;
+  Eigen::Vector3d gravity{0.0, 0.0, -9.8};  ///< m/s^2
+  double time_step = 0.01;                  ///< h between output samples (s)
 };
 
 /// State of a body at one output time, in its mesh frame: the mesh point x0 (placed rest mesh
@@ -75,6 +85,11 @@ struct RigidContactSide {
   }
 };
 
+/// The Coulomb coefficient the twin gives contacts between `first`, a body, and `second` (a body,
+/// plane or mesh of `world`; RigidWorld's rule). Throws std::out_of_range for an index the world
+/// has not.
+double rigid_friction(const RigidWorld& world, RigidContactSide first, RigidContactSide second);
+
 /// A pair that touched (a contact point at distance <= 0 when Bullet's solver ran, i.e. one it
 /// applied an impulse to) during the internal steps from output sample `sample` - 1 to `sample`.
 /// `first` is a body; `second` an obstacle or a body with a larger index.
@@ -86,9 +101,9 @@ struct RigidTouch {
 /// Simulates the world for `duration` seconds; returns, per body in the world's order, its states
 /// at t = 0, h, 2h, ... (h = world.time_step), and, if `touches` is given, every pair that touched
 /// between two samples (once a sample, in sample order). Throws rbaa::InputError naming the body
-/// or setting at fault (no bodies, non-positive mass or inertia, bad step or margin, empty
-/// obstacle mesh, a negative restitution, a pair restitution naming a missing body, one body
-/// twice or one pair twice).
+/// or value at fault (no bodies, non-positive mass or inertia, bad step or margin, empty
+/// obstacle mesh, a negative or non-finite restitution or friction coefficient, a pair
+/// restitution or friction naming a missing body, one body twice or one pair twice).
 std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
                                                     const RigidSettings& settings, double duration,
                                                     std::vector<RigidTouch>* touches = nullptr);

@@ -148,13 +148,6 @@ struct DemonstrationSpec {
   bool figure_horizontal = false;
 };
 
-/// A Coulomb coefficient between two bodies (contact.pairs[i]): body 0 is the object, body
-/// i + 1 is bodies[i].
-struct BodyPairFriction {
-  int a = 0, b = 0;
-  double friction = 0;
-};
-
 /// Closed interval [lo, hi].
 struct Range {
   double lo = 0, hi = 0;
@@ -218,7 +211,8 @@ struct Scene {
   /// Coulomb coefficient of every pair of surfaces that sets none: planes and obstacle meshes
   /// without their own `friction`, pairs of bodies not in `friction_pairs`; 0: none.
   double friction = 0.0;
-  /// contact.pairs: coefficients between named bodies, overriding `friction` for them.
+  /// contact.pairs: coefficients between named bodies, overriding `friction` for them (body 0 is
+  /// the object, body i + 1 is bodies[i]).
   std::vector<BodyPairFriction> friction_pairs;
   double friction_eps_v = 1e-3;  ///< friction's smoothing speed (m/s)
 

@@ -34,6 +34,13 @@ struct ObstacleMesh {
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> F;
 };
 
+/// The Coulomb coefficient between two bodies a != b (indices in the model's list of bodies,
+/// either order): a scene's contact.pairs[i], the rigid twin's named pairs.
+struct BodyPairFriction {
+  int a = 0, b = 0;
+  double friction = 0;
+};
+
 enum class Integrator { kBdf1, kBdf2 };
 enum class MassModel { kConsistent, kLumped };
 
