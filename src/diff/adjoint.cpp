@@ -190,6 +190,13 @@ Trajectory DifferentiableSimulator::forward(const MaterialField& materials,
   materials_ = materials;
   const bool store = storage_ == FactorStorage::kStore;
   if (!store) spare_.clear();
+  // Newton's chord start (NewtonSettings::chord_first_step) finds the previous step's factor
+  // here once it has been taken from Newton's solver.
+  if (store) {
+    sim_.newton().set_chord_solve([this](const Eigen::VectorXd& b) {
+      return factors_.empty() || !factors_.back() ? Eigen::VectorXd() : factors_.back()->solve(b);
+    });
+  }
   Trajectory trajectory = sim_.run(q0, v0, [&](int step, const Eigen::VectorXd& q, const StepStats& s) {
     if (store) {
       // Newton's last factor is of the Hessian at the returned iterate; only an exact one is H.
@@ -209,6 +216,7 @@ Trajectory DifferentiableSimulator::forward(const MaterialField& materials,
     if (callback) callback(step, q, s);
   });
   spare_.clear();  // hold no more factors than this run's
+  sim_.newton().set_chord_solve(nullptr);
   return trajectory;
 }
 

@@ -547,6 +547,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.newton_tolerance = n.number("tolerance", s.newton_tolerance, 0.0, 1.0, true);
     s.newton_max_iterations = n.integer("max_iterations", s.newton_max_iterations, 1, 100000);
     s.newton_rigid_predictor = n.text("rigid_predictor", "true", {"true", "false"}) == "true";
+    s.newton_chord_start =
+        n.text("chord_start", s.newton_chord_start ? "true" : "false", {"true", "false"}) == "true";
     n.finish();
   }
   {

@@ -124,6 +124,7 @@ std::string scene_fingerprint_text(const Scene& s) {
   // The predictor changes results within Newton's tolerance; the default keeps older checkpoints'
   // fingerprints.
   if (!s.newton_rigid_predictor) t << "newton.rigid_predictor false\n";
+  if (!s.newton_chord_start) t << "newton.chord_start false\n";
   t << "reference_material " << number(s.reference_Y) << " " << number(s.reference_nu) << " "
     << number(s.reference_rho) << "\n";
   t << "material_bounds.Y " << number(s.Y_range.lo) << " " << number(s.Y_range.hi) << "\n";

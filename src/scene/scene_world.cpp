@@ -99,6 +99,7 @@ SimulationSettings simulation_settings(const Scene& scene, double kappa) {
   s.newton_tolerance = scene.newton_tolerance;
   s.newton_max_iterations = scene.newton_max_iterations;
   s.rigid_predictor = scene.newton_rigid_predictor;
+  s.newton_chord_start = scene.newton_chord_start;
   s.contact_substeps = scene.contact_substeps;
   return s;
 }

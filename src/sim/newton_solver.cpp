@@ -40,14 +40,62 @@ void lap(Clock::time_point& t0, double& to) {
 
 }  // namespace
 
+// The chord step costs one gradient, one solve pair and a line search of energy differences; it
+// takes at most a dozen halvings (a stale factor far from this step's Hessian, e.g. across an
+// impact, gives a poor direction: then the Newton iterations do the work as without it).
+double NewtonSolver::chord_step(IncrementalPotential& E, Eigen::VectorXd& x, NewtonResult& result) {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  constexpr int kMaxChordHalvings = 12;
+  Clock::time_point t0 = Clock::now();
+  const Eigen::VectorXd g = E.gradient(x);
+  lap(t0, result.gradient_seconds);
+  if (!g.allFinite()) return kNone;
+  const ChordSolve solve = [this](const Eigen::VectorXd& b) -> Eigen::VectorXd {
+    if (solver_.has_factor()) return solver_.solve(b);
+    return chord_solve_ ? chord_solve_(b) : Eigen::VectorXd();
+  };
+  Eigen::VectorXd dq = chord_frame_ ? chord_frame_(x, g, solve) : solve(g);
+  dq = -dq;
+  lap(t0, result.solve_seconds);
+  if (dq.size() != g.size()) return kNone;
+  E.zero_fixed(dq);
+  if (!dq.allFinite() || !(g.dot(dq) < 0)) return kNone;
+  if (transform_) {
+    Eigen::VectorXd corrected = transform_(x, dq);
+    E.zero_fixed(corrected);
+    if (g.dot(corrected) < 0) dq = std::move(corrected);
+  }
+  double alpha = std::min(1.0, E.max_step_size(x, x + dq));
+  double velocity = kNone;
+  for (int halvings = 0; halvings <= kMaxChordHalvings && alpha > 0; ++halvings, alpha *= 0.5) {
+    const Eigen::VectorXd trial = x + alpha * dq;
+    if (E.is_step_valid(x, trial) && E.value_difference(x, trial) < 0) {
+      x = trial;
+      E.solution_changed(x);
+      ++result.chord_steps;
+      result.line_search_halvings += halvings;
+      if (alpha == 1.0) velocity = dq.lpNorm<Eigen::Infinity>() / settings_.time_step;
+      break;
+    }
+  }
+  lap(t0, result.line_search_seconds);
+  return velocity;
+}
+
 NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
                                     const std::string& context) {
   const double h = settings_.time_step;
   const double tol = settings_.velocity_tolerance;
   NewtonResult result;
   E.solution_changed(x);
-  double last_velocity = std::numeric_limits<double>::infinity();
-  bool last_full = false;
+  const bool chord = settings_.chord_first_step && factor_from_last_call_;
+  // Until this call returns converged, solver_ may hold a factor of a failed iterate.
+  factor_from_last_call_ = false;
+  const double chord_velocity =
+      chord ? chord_step(E, x, result) : std::numeric_limits<double>::infinity();
+  // A whole chord step counts as a full step: the first factorisation may be the exact Hessian.
+  double last_velocity = chord_velocity;
+  bool last_full = std::isfinite(chord_velocity);
   // Round-off floor bookkeeping: the slowest step before the current run of non-improving ones,
   // and the length of that run.
   double best_velocity = std::numeric_limits<double>::infinity();
@@ -116,7 +164,10 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     if (!std::isfinite(velocity)) {
       throw SolverError(context + ": non-finite Newton step at iteration " + std::to_string(it));
     }
-    if (velocity < tol) return result;
+    if (velocity < tol) {
+      factor_from_last_call_ = true;
+      return result;
+    }
     const bool floor_regime =
         velocity < std::max(kFloorFactor * tol, kFloorRelative * x.lpNorm<Eigen::Infinity>() / h);
     if (floor_regime) {
@@ -126,6 +177,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
       } else if (++stalled >= kFloorWindow) {
         result.roundoff_limited = true;
         result.floor_velocity = best_velocity;
+        factor_from_last_call_ = true;
         return result;
       }
     } else {

@@ -11,6 +11,7 @@
 #include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
+#include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/rigid_rotation_correction.hpp"
 
 namespace rbaa {
@@ -116,6 +117,7 @@ NewtonSettings newton_settings(const SimulationSettings& s, const TetMesh& rest)
   n.velocity_tolerance = s.newton_tolerance * tolerance_length(s, rest);
   n.max_iterations = s.newton_max_iterations;
   n.exact_hessian_factor = s.exact_hessian_factor;
+  n.chord_first_step = s.newton_chord_start;
   return n;
 }
 
@@ -189,6 +191,43 @@ Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
                                      const Eigen::SparseMatrix<double>& H) {
       return rigid_newton_step(x, g, H, vertex_masses_, free_bodies_);
     });
+  newton_.set_chord_frame([this](const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                 const NewtonSolver::ChordSolve& solve) {
+    return rotated_chord_solve(x, g, solve);
+  });
+}
+
+Eigen::VectorXd Simulator::rotated_chord_solve(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                               const NewtonSolver::ChordSolve& solve) const {
+  // The previous factor is of the Hessian at the last converged positions; each free body has
+  // turned by its best-fit rotation R since, and its Hessian with it: H_x^-1 g ~ R H^-1 R^T g.
+  const Eigen::VectorXd& from = integrator_.current();
+  // Contact steps stay exact Newton from the first iteration (their factor changes with the
+  // barrier's pairs, which no rotation accounts for).
+  if (active_pairs(from) > 0 || active_pairs(x) > 0) return Eigen::VectorXd();
+  std::vector<Body> bodies = free_bodies_;
+  if (settings_.bodies.empty()) {
+    Body whole;
+    whole.vertex_end = rest_.num_vertices();
+    bodies.push_back(whole);
+  }
+  std::vector<Eigen::Matrix3d> R;
+  Eigen::VectorXd b = g;
+  for (const Body& body : bodies) {
+    const int v0 = body.vertex_begin, n = body.num_vertices();
+    R.push_back(best_fit_rotation(from.segment(3 * v0, 3 * n), x.segment(3 * v0, 3 * n),
+                                  vertex_masses_.segment(v0, n))
+                    .toRotationMatrix());
+    for (int v = v0; v < v0 + n; ++v) b.segment<3>(3 * v) = R.back().transpose() * g.segment<3>(3 * v);
+  }
+  Eigen::VectorXd y = solve(b);
+  if (y.size() != g.size()) return y;
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    for (int v = bodies[k].vertex_begin; v < bodies[k].vertex_end; ++v) {
+      y.segment<3>(3 * v) = R[k] * Eigen::Vector3d(y.segment<3>(3 * v));
+    }
+  }
+  return y;
 }
 
 void Simulator::build_mass_forms(const MaterialField& materials) {
@@ -256,6 +295,8 @@ void Simulator::reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0) {
   if (!q0.allFinite() || !v0.allFinite()) {
     throw InputError("simulation: initial positions or velocities are not finite");
   }
+  // A run's steps depend on its initial state alone, not on the run before it.
+  newton_.forget_factor();
   for (int v : surface_vertices_) {
     for (std::size_t p = 0; p < settings_.planes.size(); ++p) {
       const Plane& plane = settings_.planes[p];
@@ -409,6 +450,7 @@ StepStats Simulator::advance() {
   s.ccd_limited_steps = r.ccd_limited_steps;
   s.projected_fallbacks = r.projected_fallbacks;
   s.extrapolations = r.extrapolations;
+  s.chord_steps = r.chord_steps;
   s.gradient_seconds = r.gradient_seconds;
   s.assembly_seconds = r.assembly_seconds;
   s.factorization_seconds = r.factorization_seconds;

@@ -200,6 +200,9 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   EXPECT_FALSE(parse_scene(std::string(kMinimal) + "newton: {rigid_predictor: false}\n", "t.yaml", "").newton_rigid_predictor);
   EXPECT_TRUE(parse_scene(kMinimal, "t.yaml", "").newton_rigid_predictor);
   EXPECT_FALSE(simulation_settings(parse_scene(kMinimal, "t.yaml", "", {"newton.rigid_predictor=false"}), 1.0).rigid_predictor);
+  expect_error(std::string(kMinimal) + "newton: {chord_start: 1}\n", {"newton.chord_start", "'1'"});
+  EXPECT_TRUE(simulation_settings(parse_scene(kMinimal, "t.yaml", ""), 1.0).newton_chord_start);
+  EXPECT_FALSE(simulation_settings(parse_scene(kMinimal, "t.yaml", "", {"newton.chord_start=false"}), 1.0).newton_chord_start);
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: -1}\n", {"attack.polish_iterations"});
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: 2.5}\n", {"attack.polish_iterations", "whole number"});
   expect_error(std::string(kMinimal) + "attack: {refinement_factor: -2}\n", {"attack.refinement_factor"});
@@ -247,7 +250,8 @@ TEST(Scene, FingerprintSeesEverySettingThatChangesAResult) {
         "attack.learning_rate=0.1", "attack.beta=1e3", "attack.adam_beta1=0.9", "attack.adam_beta2=0.99",
         "attack.seed=2", "attack.perturbation=0.2", "attack.alpha0=0.9", "attack.Y0=1e10", "attack.nu0=0.3",
         "attack.smoothing_gamma=2", "attack.boundary=vertices", "attack.round_threshold=0.4",
-        "attack.project_moments=false", "attack.start=best_uniform", "newton.rigid_predictor=false"}) {
+        "attack.project_moments=false", "attack.start=best_uniform", "newton.rigid_predictor=false",
+        "newton.chord_start=false"}) {
     EXPECT_NE(scene_fingerprint(parse_scene(base, "a.yaml", "", {o})), fp) << o;
   }
 }

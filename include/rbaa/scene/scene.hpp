@@ -220,6 +220,7 @@ struct Scene {
   double newton_tolerance = 1e-8;  ///< on ||dq||_inf / h, relative to the rest bbox diagonal per s
   int newton_max_iterations = 100;
   bool newton_rigid_predictor = true;  ///< SimulationSettings::rigid_predictor
+  bool newton_chord_start = true;      ///< SimulationSettings::newton_chord_start
 
   // Reference material (the "as rigid as possible" baseline).
   double reference_Y = 1e13;

@@ -41,6 +41,14 @@ struct NewtonSettings {
   /// try the exact Hessian after a full step slower than this x tolerance (infinity: always)
   double exact_hessian_factor = std::numeric_limits<double>::infinity();
   int max_line_search_halvings = 60;
+  /// Start each minimize with a chord step: the previous call's factorisation (the last Hessian
+  /// of the previous time step, at its converged iterate) solved against this iterate's gradient,
+  /// a descent direction, line-searched like a Newton step but never a convergence test (the
+  /// adjoint needs the factor of the converged iterate's own Hessian). A stiff body in free flight
+  /// then needs one factorisation per step instead of two: the chord step removes the elastic
+  /// correction the rigid predictor leaves, and the first factorisation finds the step converged.
+  /// No chord step without a previous call since construction or forget_factor().
+  bool chord_first_step = false;
 };
 
 struct NewtonResult {
@@ -53,6 +61,7 @@ struct NewtonResult {
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
   int subspace_steps = 0;         ///< sub-steps taken (set_subspace_step), no factorisation each
   int extrapolations = 0;         ///< step doublings taken after full steps (newton_solver.cpp)
+  int chord_steps = 0;            ///< chord steps taken on the previous call's factor (0 or 1)
   /// Stopped above the tolerance at the round-off floor: kFloorWindow steps in a row, all below
   /// kFloorFactor x tolerance, none smaller than the smallest step before them (no
   /// progress at all, only noise). step_velocity is then the floor's latest step and
@@ -93,6 +102,24 @@ class NewtonSolver {
   /// reached, the line search fails or no Hessian can be factorised.
   NewtonResult minimize(IncrementalPotential& E, Eigen::VectorXd& x, const std::string& context);
 
+  /// Forgets the previous call's factorisation for chord_first_step (a new run starts: its first
+  /// step must not depend on what the solver did before).
+  void forget_factor() { factor_from_last_call_ = false; }
+  /// Where the chord step finds the previous call's factor once the caller has taken it from
+  /// this solver (the adjoint keeps each step's factor by exchanging value arrays,
+  /// LinearSolver::give_factor_values): b -> A^-1 b with that factor, or an empty vector when
+  /// the caller has none. Empty function: no chord step without this solver's own factor.
+  using ChordSolve = std::function<Eigen::VectorXd(const Eigen::VectorXd& b)>;
+  void set_chord_solve(ChordSolve solve) { chord_solve_ = std::move(solve); }
+  /// How the chord step applies the previous factor at iterate x to the gradient g, given
+  /// `solve` (b -> A^-1 b with it; an empty result: none): the simulator rotates g into the
+  /// previous step's frame of each body and the solution back, because a stiff body's Hessian
+  /// turns with the body (H_x ~ R H_prev R^T) and an unrotated stale factor gets the stiff
+  /// directions wrong by the step's rotation. Empty function: solve(g).
+  using ChordFrame = std::function<Eigen::VectorXd(const Eigen::VectorXd& x, const Eigen::VectorXd& g,
+                                                   const ChordSolve& solve)>;
+  void set_chord_frame(ChordFrame frame) { chord_frame_ = std::move(frame); }
+
   /// The factorisation of the last Hessian (at the returned iterate after minimize).
   const LinearSolver& linear_solver() const { return solver_; }
   LinearSolver& linear_solver() { return solver_; }
@@ -122,6 +149,13 @@ class NewtonSolver {
   StepTransform transform_;
   SubspaceStep subspace_;
   LinearSolver solver_;
+  bool factor_from_last_call_ = false;  // the previous call converged (its factor is the chord's)
+  ChordSolve chord_solve_;
+  ChordFrame chord_frame_;
+
+  // The chord step of chord_first_step; leaves x unchanged when no admissible decrease is found.
+  // Returns the step's velocity ||dq||_inf / h when it was taken whole, else infinity.
+  double chord_step(IncrementalPotential& E, Eigen::VectorXd& x, NewtonResult& result);
 };
 
 }  // namespace rbaa

@@ -23,6 +23,7 @@ struct StepStats {
   int ccd_limited_steps = 0;
   int projected_fallbacks = 0;
   int extrapolations = 0;        ///< Newton step doublings (newton_solver.cpp)
+  int chord_steps = 0;           ///< chord steps on the previous step's factor (0 or 1)
   double min_distance = 0;       ///< smallest vertex-obstacle distance at the new q (m)
   int active_pairs = 0;          ///< contact pairs closer than d_hat at the new q
   /// Sum of the forces (N) the drives exert on their driven vertices at the new q: the full
