@@ -62,18 +62,31 @@ TEST(Simulator, FreeFlightFromDeformedSpinningStartConservesLinearMomentum) {
   }
 }
 
+// A stiff (Y = 1e13) ball in free flight under gravity, 12 steps of 0.01 s, for the spinning
+// free-flight tests below.
+struct SpinningBall {
+  TetMesh mesh = test::ball_mesh(0.121, 4, Eigen::Vector3d(0.3, -0.2, 3.0));
+  MaterialField field = MaterialField::uniform(mesh.num_tets(), 1e13, 0.28, 2500.0);
+  SimulationSettings settings = [] {
+    SimulationSettings s;
+    s.time_step = 0.01;
+    s.num_steps = 12;
+    s.gravity = Eigen::Vector3d(0, 0, -9.8);
+    return s;
+  }();
+  Eigen::VectorXd q0 = test::positions(mesh);
+};
+
 // A stiff (Y = 1e13) ball spinning at 12 rad/s in free flight: the rigid predictor starts each step from the
 // previous shape turned and moved onto the ballistic guess, so a step needs at most two Newton
 // iterations (factorisations) where the ballistic guess, which stretches the body along chords,
 // needed five; both converge to the same trajectory within Newton's tolerance.
 TEST(Simulator, RigidPredictorConvergesSpinningFreeFlightInTwoIterations) {
-  const TetMesh mesh = test::ball_mesh(0.121, 4, Eigen::Vector3d(0.3, -0.2, 3.0));
-  const MaterialField field = MaterialField::uniform(mesh.num_tets(), 1e13, 0.28, 2500.0);
-  SimulationSettings s;
-  s.time_step = 0.01;
-  s.num_steps = 12;
-  s.gravity = Eigen::Vector3d(0, 0, -9.8);
-  const Eigen::VectorXd q0 = Eigen::Map<const Eigen::VectorXd>(mesh.V.data(), 3 * mesh.num_vertices());
+  const SpinningBall ball;
+  const TetMesh& mesh = ball.mesh;
+  const MaterialField& field = ball.field;
+  SimulationSettings s = ball.settings;
+  const Eigen::VectorXd& q0 = ball.q0;
   Trajectory with, without;
   int most_with = 0, most_without = 0;
   double tolerance = 0;
@@ -107,13 +120,11 @@ TEST(Simulator, RigidPredictorConvergesSpinningFreeFlightInTwoIterations) {
 // factorisation instead of two, to the same trajectory within Newton's tolerance. A second run
 // of the same simulator is bit for bit the first (its first step has no previous factor).
 TEST(Simulator, ChordStartFactorisesOncePerSpinningFreeFlightStep) {
-  const TetMesh mesh = test::ball_mesh(0.121, 4, Eigen::Vector3d(0.3, -0.2, 3.0));
-  const MaterialField field = MaterialField::uniform(mesh.num_tets(), 1e13, 0.28, 2500.0);
-  SimulationSettings s;
-  s.time_step = 0.01;
-  s.num_steps = 12;
-  s.gravity = Eigen::Vector3d(0, 0, -9.8);
-  const Eigen::VectorXd q0 = test::positions(mesh);
+  const SpinningBall ball;
+  const TetMesh& mesh = ball.mesh;
+  const MaterialField& field = ball.field;
+  SimulationSettings s = ball.settings;
+  const Eigen::VectorXd& q0 = ball.q0;
   Trajectory with, without;
   double tolerance = 0;
   for (bool chord : {true, false}) {
