@@ -19,6 +19,7 @@
 #include "rbaa/diff/adjoint.hpp"
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -49,6 +50,7 @@ std::string fields_name(const std::vector<DesignField>& fields) {
 std::shared_ptr<UndirectedTrajectoryObjective> reference_objective(const test::ThrownBall& b) {
   Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
   const Trajectory t = ref.run(b.q0, b.v0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");
   return UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, t.q.back());
 }
 
@@ -70,6 +72,8 @@ void expect_gradient(const test::ThrownBall& b, std::shared_ptr<const Trajectory
   EXPECT_LE(r.max_relative_error, kBar) << label << " " << fields_name(fields);
   // Every stored factor was used: Newton ended every step on the exact Hessian here.
   EXPECT_EQ(f.last().adjoint.rebuilt_factorizations, 0);
+  // The check's last run (a finite-difference one).
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
 }
 
 const std::vector<std::vector<DesignField>> kFieldSets = {
@@ -122,6 +126,7 @@ TEST(Adjoint, StoredFactorsGiveTheRebuiltGradient) {
     const double cs = stored.evaluate(theta, &gs);
     const double cr = rebuilt.evaluate(theta, &gr);
     EXPECT_EQ(cs, cr);
+    EXPECT_EQ(test::first_intersection(b.mesh, b.settings, stored.last().trajectory), "");
     const AdjointStats& s = stored.last().adjoint;
     const AdjointStats& r = rebuilt.last().adjoint;
     EXPECT_EQ(s.stored_factor_solves, b.settings.num_steps);
@@ -164,6 +169,7 @@ TEST(Adjoint, InitialStateAdjointMatchesFiniteDifferences) {
   Simulator sim(b.mesh, m, b.settings);
   DifferentiableSimulator diff(sim);
   const Trajectory t = diff.forward(m, b.q0, b.v0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");
   TrajectorySeed seed;
   objective->evaluate(t, m, &seed);
   const AdjointResult r = diff.backward(t, seed);

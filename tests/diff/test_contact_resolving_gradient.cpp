@@ -12,6 +12,7 @@
 #include "rbaa/diff/adjoint.hpp"
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -27,6 +28,7 @@ test::ThrownBall resolving_ball() {
 void expect_material_gradient(const test::ThrownBall& b, const char* label) {
   Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
   const Trajectory reference = ref.run(b.q0, b.v0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, reference), "");
   auto objective = UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, reference.q.back());
   DesignSpaceOptions o;
   o.fields = {DesignField::kY, DesignField::kNu, DesignField::kRho, DesignField::kAlpha};
@@ -53,6 +55,7 @@ void expect_material_gradient(const test::ThrownBall& b, const char* label) {
   EXPECT_GT(r.gradient_norm, 0);
   EXPECT_LE(r.max_relative_error, kBar);
   EXPECT_EQ(f.last().adjoint.rebuilt_factorizations, 0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");  // the check's last run
 }
 
 TEST(ContactResolvingGradient, MaterialsMatchFiniteDifferences) {
@@ -88,6 +91,8 @@ TEST(ContactResolvingGradient, InitialStateMatchesFiniteDifferences) {
   const Trajectory minus = minus_sim.run(b.q0 - s * dq0, b.v0 - s * dv0);
   ASSERT_EQ(plus.step_sizes, t.step_sizes);
   ASSERT_EQ(minus.step_sizes, t.step_sizes);
+  const test::IntersectionCheck check(b.mesh, b.settings);
+  for (const Trajectory* run : {&t, &plus, &minus}) EXPECT_EQ(check.first_intersection(*run), "");
   const double fd = w.dot(plus.q.back() - minus.q.back()) / (2 * s);
   const double adjoint = a.dq0.dot(dq0) + a.dv0.dot(dv0);
   std::printf("contact-resolving initial state: adjoint %.10e, finite differences %.10e\n",

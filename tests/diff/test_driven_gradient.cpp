@@ -14,6 +14,7 @@
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
 #include "sim/driven_fixtures.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -104,6 +105,9 @@ TEST(DrivenGradient, AdjointMatchesFiniteDifferencesAndTheTangentPerFieldOfTheDr
       EXPECT_LE(d.relative_error, 1e-5) << design_field_name(field);
     }
     EXPECT_LE(r.max_tangent_relative_error, 1e-12) << design_field_name(field);
+    // The check's last run (a finite-difference one).
+    EXPECT_EQ(test::first_intersection(s.scene.mesh, s.scene.settings, f.last().trajectory), "")
+        << design_field_name(field);
   }
 }
 
@@ -117,6 +121,7 @@ TEST(DrivenGradient, NoAdjointReachesTheDrivenDofs) {
   const int stored = f.last().adjoint.stored_factor_solves;
   EXPECT_GT(stored, 0);
   const Trajectory& t = f.last().trajectory;
+  EXPECT_EQ(test::first_intersection(s.scene.mesh, s.scene.settings, t), "");
   TrajectorySeed seed;
   s.objective->evaluate(t, f.last().materials, &seed);
   const AdjointResult a = f.differentiable().backward(t, seed);

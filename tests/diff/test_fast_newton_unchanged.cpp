@@ -20,6 +20,7 @@
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -43,13 +44,17 @@ Run run_config(const std::string& name, bool predictor) {
                 MaterialField::uniform(mesh.num_tets(), scene.reference_Y, scene.reference_nu,
                                        scene.reference_rho),
                 settings);
-  auto objective = UndirectedTrajectoryObjective::from_reference(mesh, scene.reference_rho,
-                                                                 ref.run(q0, v0).q.back());
+  const Trajectory reference = ref.run(q0, v0);
+  const test::IntersectionCheck check(mesh, settings);
+  EXPECT_EQ(check.first_intersection(reference), "") << name << " reference";
+  auto objective =
+      UndirectedTrajectoryObjective::from_reference(mesh, scene.reference_rho, reference.q.back());
   const DesignSpace ds(mesh, design_space_options(scene));
   TrajectoryGradientFunction f(mesh, settings, q0, v0, ds, objective);
   Run r;
   r.objective = f.evaluate(ds.initial_theta(true), &r.gradient);
   const Trajectory& t = f.last().trajectory;
+  EXPECT_EQ(check.first_intersection(t), "") << name;
   r.q_end = t.q.back();
   r.gap = objective->gap(r.q_end);
   r.steps = t.num_steps();

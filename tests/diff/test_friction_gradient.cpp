@@ -12,6 +12,7 @@
 #include "diff_fixtures.hpp"
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -39,7 +40,9 @@ DesignSpaceOptions soft_design(std::vector<DesignField> fields) {
 
 std::shared_ptr<UndirectedTrajectoryObjective> reference_objective(const test::ThrownBall& b) {
   Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
-  return UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, ref.run(b.q0, b.v0).q.back());
+  const Trajectory t = ref.run(b.q0, b.v0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");
+  return UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, t.q.back());
 }
 
 TEST(FrictionGradient, FrictionActsAndChangesThePath) {
@@ -59,6 +62,8 @@ TEST(FrictionGradient, FrictionActsAndChangesThePath) {
               lagged, with.settings.num_steps, gap);
   EXPECT_GE(lagged, 10);
   EXPECT_GT(gap, 1e-4);
+  EXPECT_EQ(test::first_intersection(with.mesh, with.settings, ta), "");
+  EXPECT_EQ(test::first_intersection(without.mesh, without.settings, tb), "");
 }
 
 TEST(FrictionGradient, AdjointMatchesFiniteDifferencesPerField) {
@@ -82,6 +87,8 @@ TEST(FrictionGradient, AdjointMatchesFiniteDifferencesPerField) {
     EXPECT_GE(r.active_contact_steps, 10);
     EXPECT_GT(r.gradient_norm, 0);
     EXPECT_LE(r.max_relative_error, 1e-5) << design_field_name(field);
+    // The check's last run (a finite-difference one).
+    EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
   }
 }
 
@@ -103,6 +110,7 @@ TEST(FrictionGradient, AdjointMatchesTheTangentLinearModel) {
   std::printf("\n");
   EXPECT_GE(r.active_contact_steps, 10);
   EXPECT_LE(r.max_tangent_relative_error, 1e-10);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
 }
 
 }  // namespace

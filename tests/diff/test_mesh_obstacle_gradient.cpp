@@ -14,6 +14,7 @@
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "sim/obstacle_fixtures.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -39,7 +40,9 @@ DesignSpaceOptions soft_design(std::vector<DesignField> fields) {
 
 std::shared_ptr<UndirectedTrajectoryObjective> reference_objective(const test::ThrownBall& b) {
   Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
-  return UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, ref.run(b.q0, b.v0).q.back());
+  const Trajectory t = ref.run(b.q0, b.v0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");
+  return UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, t.q.back());
 }
 
 TEST(MeshObstacleGradient, AllPairKindsAreActive) {
@@ -58,6 +61,7 @@ TEST(MeshObstacleGradient, AllPairKindsAreActive) {
   }
   std::printf("ball on a box corner: %d contact steps; pairs over the run: VT %d, TV %d, EE %d\n",
               steps, vt, tv, ee);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");
   EXPECT_GE(steps, 3);
   EXPECT_GT(vt, 0);
   EXPECT_GT(tv, 0);
@@ -99,6 +103,8 @@ TEST(MeshObstacleGradient, AdjointMatchesFiniteDifferencesPerField) {
     // steps (the line search cannot see a 1e-14 m step's energy change), not the adjoint; since
     // the solver takes a gradient-lowering step there the case is back in.
     EXPECT_LE(r.max_relative_error, 1e-5) << name;
+    // The check's last run (a finite-difference one).
+    EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "") << name;
   }
 }
 
@@ -120,6 +126,7 @@ TEST(MeshObstacleGradient, AdjointMatchesTheTangentLinearModel) {
   std::printf("\n");
   EXPECT_GE(r.active_contact_steps, 3);
   EXPECT_LE(r.max_tangent_relative_error, 1e-10);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
 }
 
 }  // namespace

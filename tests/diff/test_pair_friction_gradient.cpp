@@ -15,6 +15,7 @@
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "sim/body_fixtures.hpp"
 #include "sim/obstacle_fixtures.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -57,7 +58,9 @@ void print(const char* what, const GradientCheckResult& r) {
 
 std::shared_ptr<UndirectedTrajectoryObjective> floor_objective(const test::ThrownBall& b) {
   Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
-  return UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, ref.run(b.q0, b.v0).q.back());
+  const Trajectory t = ref.run(b.q0, b.v0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");
+  return UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, t.q.back());
 }
 
 TEST(MeshFrictionGradient, FrictionActsAndChangesThePath) {
@@ -77,6 +80,8 @@ TEST(MeshFrictionGradient, FrictionActsAndChangesThePath) {
       lagged, with.settings.num_steps, gap);
   EXPECT_GE(lagged, 10);
   EXPECT_GT(gap, 1e-4);
+  EXPECT_EQ(test::first_intersection(with.mesh, with.settings, ta), "");
+  EXPECT_EQ(test::first_intersection(without.mesh, without.settings, tb), "");
 }
 
 TEST(MeshFrictionGradient, AdjointMatchesFiniteDifferencesPerField) {
@@ -94,6 +99,8 @@ TEST(MeshFrictionGradient, AdjointMatchesFiniteDifferencesPerField) {
     EXPECT_GE(r.active_contact_steps, 10);
     EXPECT_GT(r.gradient_norm, 0);
     EXPECT_LE(r.max_relative_error, 1e-5) << design_field_name(field);
+    // The check's last run (a finite-difference one).
+    EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
   }
 }
 
@@ -114,6 +121,7 @@ TEST(MeshFrictionGradient, AdjointMatchesTheTangentLinearModel) {
   std::printf("\n");
   EXPECT_GE(r.active_contact_steps, 10);
   EXPECT_LE(r.max_tangent_relative_error, 1e-10);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
 }
 
 // The mesh-obstacle gradient tests' ball thrown at a box's top corner (test_mesh_obstacle_gradient
@@ -132,7 +140,7 @@ TEST(MeshFrictionGradient, AtABoxCornerEveryPairKindCarriesFriction) {
   const test::ThrownBall b = ball_at_box_corner(0.5);
   Simulator sim(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 1e9, 0.3, 2500), b.settings);
   int vt = 0, tv = 0, ee = 0;
-  sim.run(b.q0, b.v0, [&](int, const Eigen::VectorXd&, const StepStats&) {
+  const Trajectory run = sim.run(b.q0, b.v0, [&](int, const Eigen::VectorXd&, const StepStats&) {
     for (const LaggedFrictionPair& p : sim.pair_friction_form()->lagged_pairs()) {
       vt += !p.points.edge_edge && p.points.vertex[0] >= 0;
       tv += !p.points.edge_edge && p.points.vertex[0] < 0;
@@ -145,6 +153,7 @@ TEST(MeshFrictionGradient, AtABoxCornerEveryPairKindCarriesFriction) {
   EXPECT_GT(vt, 0);
   EXPECT_GT(tv, 0);
   EXPECT_GT(ee, 0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, run), "");
   const auto objective = floor_objective(b);
   for (DesignField field :
        {DesignField::kY, DesignField::kNu, DesignField::kRho, DesignField::kAlpha}) {
@@ -162,6 +171,7 @@ TEST(MeshFrictionGradient, AtABoxCornerEveryPairKindCarriesFriction) {
     EXPECT_GE(r.active_contact_steps, 3);
     EXPECT_LE(r.max_relative_error, 1e-5) << design_field_name(field);
     EXPECT_LE(r.max_tangent_relative_error, 1e-10) << design_field_name(field);
+    EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
   }
 }
 
@@ -186,7 +196,9 @@ std::shared_ptr<UndirectedTrajectoryObjective> balls_objective(const test::TwoBa
                                                                const Eigen::VectorXd& q0,
                                                                const Eigen::VectorXd& v0) {
   Simulator ref(t.mesh, MaterialField::uniform(t.mesh.num_tets(), 5e9, 0.28, 1000), t.settings);
-  return UndirectedTrajectoryObjective::from_reference(t.mesh, 1000, ref.run(q0, v0).q.back());
+  const Trajectory reference = ref.run(q0, v0);
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, reference), "");
+  return UndirectedTrajectoryObjective::from_reference(t.mesh, 1000, reference.q.back());
 }
 
 TEST(TwoBodyFrictionGradient, FrictionActsAndChangesThePath) {
@@ -210,6 +222,8 @@ TEST(TwoBodyFrictionGradient, FrictionActsAndChangesThePath) {
       lagged, with.settings.num_steps, pairs, gap);
   EXPECT_GE(lagged, 3);
   EXPECT_GT(gap, 1e-4);
+  EXPECT_EQ(test::first_intersection(with.mesh, with.settings, ta), "");
+  EXPECT_EQ(test::first_intersection(without.mesh, without.settings, tb), "");
 }
 
 TEST(TwoBodyFrictionGradient, AdjointMatchesFiniteDifferencesPerFieldAndBody) {
@@ -234,6 +248,7 @@ TEST(TwoBodyFrictionGradient, AdjointMatchesFiniteDifferencesPerFieldAndBody) {
       EXPECT_GE(r.active_contact_steps, 3);
       for (const DirectionCheck& d : r.directions) EXPECT_NE(d.adjoint, 0.0);
       EXPECT_LE(r.max_relative_error, 1e-5) << design_field_name(field) << " of " << body.name;
+      EXPECT_EQ(test::first_intersection(t.mesh, t.settings, f.last().trajectory), "");
     }
   }
 }
@@ -257,6 +272,7 @@ TEST(TwoBodyFrictionGradient, AdjointMatchesTheTangentLinearModel) {
   std::printf("\n");
   EXPECT_GE(r.active_contact_steps, 3);
   EXPECT_LE(r.max_tangent_relative_error, 1e-10);
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, f.last().trajectory), "");
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -46,8 +47,10 @@ ConfigProblem config_problem(const std::string& name, std::vector<std::string> o
                 MaterialField::uniform(p.mesh.num_tets(), p.scene.reference_Y, p.scene.reference_nu,
                                        p.scene.reference_rho),
                 p.settings);
+  const Trajectory reference = ref.run(p.q0, p.v0);
+  EXPECT_EQ(test::first_intersection(p.mesh, p.settings, reference), "") << name;
   p.objective = UndirectedTrajectoryObjective::from_reference(p.mesh, p.scene.reference_rho,
-                                                              ref.run(p.q0, p.v0).q.back());
+                                                              reference.q.back());
   return p;
 }
 
@@ -82,6 +85,8 @@ void expect_config_fields(const std::string& name, bool strict = true,
     EXPECT_GT(r.active_contact_steps, 0) << name;
     EXPECT_GT(r.gradient_norm, 0) << name;
     EXPECT_TRUE(r.tangent_pass) << name << " " << design_field_name(field);
+    EXPECT_EQ(test::first_intersection(p.mesh, p.settings, f.last().trajectory), "")
+        << name << " " << design_field_name(field);
     if (strict) {
       EXPECT_LE(r.max_tangent_relative_error, kTangentBar) << name << " " << design_field_name(field);
     }
@@ -128,6 +133,7 @@ TEST(TangentLinear, RandomMaterialsWithNearVoidElements) {
   std::printf("\n");
   EXPECT_GT(r.active_contact_steps, 0);
   EXPECT_LE(r.max_tangent_relative_error, kTangentBar);
+  EXPECT_EQ(test::first_intersection(p.mesh, p.settings, f.last().trajectory), "");
 }
 
 // The thrown test ball (1e9 Pa) run once, with the undirected objective's seed against a
@@ -142,7 +148,11 @@ struct ThrownBallRun {
   ThrownBallRun() {
     t = sim.run(b.q0, b.v0);
     Simulator ref(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 5e9, 0.28, 2500), b.settings);
-    UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, ref.run(b.q0, b.v0).q.back())
+    const Trajectory reference = ref.run(b.q0, b.v0);
+    const test::IntersectionCheck check(b.mesh, b.settings);
+    EXPECT_EQ(check.first_intersection(t), "");
+    EXPECT_EQ(check.first_intersection(reference), "");
+    UndirectedTrajectoryObjective::from_reference(b.mesh, 2500, reference.q.back())
         ->evaluate(t, m, &seed);
   }
 };

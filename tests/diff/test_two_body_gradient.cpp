@@ -14,6 +14,7 @@
 #include "rbaa/diff/trajectory_gradient.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "sim/body_fixtures.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -33,7 +34,9 @@ std::shared_ptr<UndirectedTrajectoryObjective> reference_objective(const test::T
                                                                    const Eigen::VectorXd& q0,
                                                                    const Eigen::VectorXd& v0) {
   Simulator ref(t.mesh, MaterialField::uniform(t.mesh.num_tets(), 5e9, 0.28, 1000), t.settings);
-  return UndirectedTrajectoryObjective::from_reference(t.mesh, 1000, ref.run(q0, v0).q.back());
+  const Trajectory reference = ref.run(q0, v0);
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, reference), "");
+  return UndirectedTrajectoryObjective::from_reference(t.mesh, 1000, reference.q.back());
 }
 
 TEST(TwoBodyGradient, AdjointMatchesFiniteDifferencesPerFieldAndBody) {
@@ -86,6 +89,8 @@ TEST(TwoBodyGradient, AdjointMatchesFiniteDifferencesPerFieldAndBody) {
         std::printf("two bodies, %-5s of %s along its gradient: slope %.6e, relative error %.2e\n",
                     design_field_name(field), body.name.c_str(), slope, error);
         EXPECT_LE(error, 1e-5) << design_field_name(field) << " of " << body.name;
+        // The last run (theta - s d).
+        EXPECT_EQ(test::first_intersection(t.mesh, t.settings, f.last().trajectory), "");
       }
       // Random directions: Y, rho and alpha meet SPEC's 1e-5 (<= 2.3e-7 per body). One random
       // direction of nu of A measures 1.3e-3 at s = 1e-2 and 1.6e-5 at 4 s: noise-dominated, and
@@ -125,6 +130,7 @@ TEST(TwoBodyGradient, AdjointMatchesTheTangentLinearModel) {
   std::printf("\n");
   EXPECT_GE(r.active_contact_steps, 3);
   EXPECT_LE(r.max_tangent_relative_error, 1e-10);
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, f.last().trajectory), "");
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/scene/simulate.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -102,6 +103,8 @@ TEST(ContactRestitution, AMeshFloorsEpisodeAndRestitutionAreThePlanes) {
   const MaterialField uniform = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0);
   const SimulationRun mesh_run = run_simulation(on_mesh, mesh, uniform);
   const SimulationRun plane_run = run_simulation(on_plane, mesh, uniform);
+  for (const SimulationRun* r : {&mesh_run, &plane_run})
+    EXPECT_EQ(test::first_intersection(r->mesh, r->settings, r->trajectory), "");
   const std::vector<ContactEpisode> episodes =
       first_contact_episodes(mesh_run, on_mesh.obstacle_meshes, on_mesh.planes, on_mesh.d_hat);
   ASSERT_EQ(episodes.size(), 1u);
@@ -154,6 +157,7 @@ TEST(ContactRestitution, ThePairsFittedRestitutionMakesTheTwinBallsLeaveAsTheDef
   const TetMesh mesh = make_scene_mesh(scene);
   const MaterialField uniform = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0);
   const SimulationRun run = run_simulation(scene, mesh, uniform);
+  EXPECT_EQ(test::first_intersection(run.mesh, run.settings, run.trajectory), "");
   const std::vector<ContactEpisode> episodes =
       first_contact_episodes(run, scene.obstacle_meshes, scene.planes, scene.d_hat);
   ASSERT_EQ(episodes.size(), 1u);

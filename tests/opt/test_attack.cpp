@@ -21,6 +21,7 @@
 #include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -133,6 +134,9 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
       at_half.with_body(r.post.solid.mesh, r.post.solid.materials, r.post.solid.vertex_origin);
   Simulator object_sim(object_at_half.mesh, object_at_half.materials, object_at_half.settings);
   const Trajectory object_run = object_sim.run(object_at_half.q0, object_at_half.v0);
+  // The final object (post-processed: voids removed) and the reference at h / 2, exactly.
+  EXPECT_EQ(test::first_intersection(object_at_half.mesh, object_at_half.settings, object_run), "");
+  EXPECT_EQ(test::first_intersection(at_half.world.mesh, at_half.settings, at_half.reference), "");
   const Eigen::Vector3d object_com = body_centre_of_mass(
       object_run.q.back(), object_at_half.mesh, object_at_half.materials.effective_density(),
       object_at_half.bodies[at_half.attacked]);
@@ -218,6 +222,9 @@ TEST(Attack, BestUniformStartPicksTheLargestGapOfItsCandidates) {
     const AttackProblem p = build_attack_problem(given);
     p.gradient->evaluate(p.body_design->initial_theta(false), nullptr);
     const TrajectoryEvaluation& e = p.gradient->last();
+    const test::IntersectionCheck check(p.world.mesh, p.settings);
+    EXPECT_EQ(check.first_intersection(p.reference), "");
+    EXPECT_EQ(check.first_intersection(e.trajectory), "") << c.Y << " " << c.nu;
     const double gap = p.final_state(e.trajectory.q.back(), e.materials).gap;
     EXPECT_NEAR(c.gap, gap, 1e-12 * gap) << c.Y << " " << c.nu;
     EXPECT_NEAR(c.objective, e.value, 1e-12 * std::abs(e.value)) << c.Y << " " << c.nu;

@@ -21,6 +21,7 @@
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
 #include "rbaa/sim/observables.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -49,6 +50,11 @@ Scene two_balls(const std::vector<std::string>& overrides = {}) {
 
 const std::string kTargetY = "objective={body: target, kind: target, component: y, value: 0}";
 
+// The problem's reference run, every position checked exactly ("" when none intersects).
+std::string reference_intersection(const AttackProblem& p) {
+  return test::first_intersection(p.world.mesh, p.settings, p.reference);
+}
+
 Eigen::VectorXd positions(const TetMesh& m) {
   return Eigen::Map<const Eigen::VectorXd>(m.V.data(), 3 * m.num_vertices());
 }
@@ -69,6 +75,8 @@ TEST(AttackProblem, OnOneBodyItIsTheHandWrittenSequenceBitForBit) {
                                              scene.reference_rho),
                       settings);
   const Trajectory ref = reference.run(q0, v0);
+  EXPECT_EQ(test::first_intersection(mesh, settings, ref), "");
+  EXPECT_EQ(reference_intersection(p), "");
   auto objective =
       UndirectedTrajectoryObjective::from_reference(mesh, scene.reference_rho, ref.q.back());
   const DesignSpace design(mesh, design_space_options(scene));
@@ -104,6 +112,7 @@ TEST(AttackProblem, TheDesignCoversTheAttackedBallOnlyAndTheOtherKeepsItsMateria
     o.with_gradient = false;
     const AttackProblem p = build_attack_problem(two_balls(), o);
     ASSERT_EQ(p.world.bodies.size(), 2u);
+    EXPECT_EQ(reference_intersection(p), "") << attacked;
     const Body& a = p.body();
     const Body& other = p.world.bodies[1 - p.attacked];
     EXPECT_EQ(p.attacked, attacked == "object" ? 0 : 1);
@@ -142,6 +151,7 @@ TEST(AttackProblem, TheDesignCoversTheAttackedBallOnlyAndTheOtherKeepsItsMateria
 TEST(AttackProblem, TheObjectiveScoresTheNamedBall) {
   const AttackProblem p = build_attack_problem(two_balls({kTargetY}));
   ASSERT_EQ(p.scored, 1);
+  EXPECT_EQ(reference_intersection(p), "");
   const Body& b = p.world.bodies[1];
   // Independently: the target's own mesh, its vertex masses and radius of gyration.
   TetMesh target;
@@ -165,6 +175,7 @@ TEST(AttackProblem, TheObjectiveScoresTheNamedBall) {
   const AttackProblem away =
       build_attack_problem(two_balls({"objective={body: target, kind: away}"}));
   EXPECT_EQ(away.objective->evaluate(away.reference, away.reference_materials, nullptr), 0.0);
+  EXPECT_EQ(reference_intersection(away), "");
   // An unknown attacked body is one line naming the flag and the value.
   AttackProblemOptions ghost;
   ghost.attacked_body = "ghost";
@@ -185,6 +196,7 @@ TEST(AttackProblem, WithBodyPutsTheAttackedBallBackInItsPlace) {
     o.attacked_body = attacked;
     o.with_gradient = false;
     const AttackProblem p = build_attack_problem(two_balls({kTargetY}), o);
+    EXPECT_EQ(reference_intersection(p), "") << attacked;
     const Body& a = p.body();
     std::vector<int> identity(a.num_vertices());
     for (int v = 0; v < a.num_vertices(); ++v) identity[v] = v;
@@ -279,6 +291,11 @@ TEST(AttackProblem, TwoBodyDirectedGradientMatchesFiniteDifferencesPerField) {
         EXPECT_NE(d.adjoint, 0.0);
         EXPECT_LE(d.relative_error, 1e-5) << design_field_name(field) << " " << objective;
       }
+      EXPECT_EQ(reference_intersection(p), "");
+      // The check's last run (a finite-difference one).
+      EXPECT_EQ(test::first_intersection(p.world.mesh, p.settings, p.gradient->last().trajectory),
+                "")
+          << design_field_name(field) << " " << objective;
     }
   }
 }

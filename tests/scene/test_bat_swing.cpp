@@ -16,6 +16,7 @@
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/body_contact_form.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -132,6 +133,7 @@ TEST(BatSwing, TheReferenceBatStrikesTheBallSquarelyOnItsSweetSpot) {
   EXPECT_NEAR(along, kSweetSpot, 0.02);
   EXPECT_LT(std::abs(p_hit.z()), 0.01);  // squarely: at the swing's height
   EXPECT_FALSE(intersecting);
+  EXPECT_EQ(test::first_intersection(w.mesh, settings, traj), "");  // exact, every position
   EXPECT_GT(closest, 0);
   EXPECT_LT(v_in.y(), -5.9);
   EXPECT_GT(v_out.y(), 6.0);                     // reversed, and faster: the bat adds its 2.5 m/s

@@ -11,6 +11,7 @@
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "sim/mesh_fixtures.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -30,6 +31,7 @@ TEST(ObservablesOnTheGrid, AnImpactBetweenGridPositionsIsABounce) {
   const Trajectory t = sim.run(q0, rigid_velocities(q0, Eigen::Vector3d(0, 0, r + gap),
                                                     Eigen::Vector3d(0, 0, -speed),
                                                     Eigen::Vector3d::Zero()));
+  EXPECT_EQ(test::first_intersection(mesh, s, t), "");  // every sub-step
   const std::vector<StepObservables> o = compute_observables(sim, t);
   ASSERT_EQ(o.size(), static_cast<std::size_t>(s.num_steps + 1));
   // The ball meets the plane within the first step (it flies 5 cm of the 3 cm gap) and is gone

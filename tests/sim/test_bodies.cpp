@@ -15,6 +15,7 @@
 #include "rbaa/error.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -60,6 +61,7 @@ TEST(Bodies, TwoBallsCollidingKeepMomentumAndNeverIntersect) {
               pA0.x(), pAN.x(), worst_balance);
   EXPECT_GE(contact_steps, 3);
   EXPECT_FALSE(intersecting);
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, traj), "");  // exact, every position
   EXPECT_GT(min_distance, 0);
   EXPECT_LE((pN - p0).norm(), 1e-10 * p_scale);
   EXPECT_LE(worst_balance, 1e-13);
@@ -71,6 +73,7 @@ TEST(Bodies, OverlappingBodiesAreRefusedNamingBoth) {
   const test::TwoBalls t = test::two_balls(-0.03);  // B's centre 0.06 from A's: the balls overlap
   Simulator sim(t.mesh, t.materials, t.settings);
   const Eigen::VectorXd q0 = test::positions(t.mesh);
+  EXPECT_NE(test::first_intersection(t.mesh, t.settings, q0), "");  // the exact check agrees
   try {
     sim.reset(q0, initial_velocities(q0, t.bodies));
     FAIL() << "overlapping bodies were accepted";

@@ -5,8 +5,6 @@
 // random steps free of intersections (checked with CGAL's exact predicates); and the Hessian's
 // pattern growing across bodies while CHOLMOD still factorises it.
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/intersections.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -25,6 +23,7 @@
 #include "rbaa/mesh/topology.hpp"
 #include "rbaa/sim/body_contact_form.hpp"
 #include "rbaa/sim/linear_solver.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -378,40 +377,19 @@ TEST(BodyContactForm, ProjectedHessianIsPsdAndThePatternGrowsAcrossBodies) {
   EXPECT_EQ(solver.num_analyses(), 1);  // both kinds share the pattern
 }
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-
-// Whether a surface triangle of one body intersects one of another body (exact predicates).
-bool bodies_intersect(const BodyContactForm& form, const Eigen::VectorXd& q) {
-  const contact::Triangles& F = form.surface_triangles();
-  std::vector<Kernel::Triangle_3> tris;
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    Kernel::Point_3 p[3];
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d x = q.segment<3>(3 * F(f, k));
-      p[k] = Kernel::Point_3(x.x(), x.y(), x.z());
-    }
-    tris.emplace_back(p[0], p[1], p[2]);
-  }
-  for (Eigen::Index i = 0; i < F.rows(); ++i)
-    for (Eigen::Index j = i + 1; j < F.rows(); ++j)
-      if (form.body_of_vertex(F(i, 0)) != form.body_of_vertex(F(j, 0)) &&
-          CGAL::do_intersect(tris[i], tris[j]))
-        return true;
-  return false;
-}
-
 // Random moves of two blocks towards each other (each vertex its own random displacement on top
 // of a random translation of each body): stepping by max_step_size never makes them intersect.
 TEST(BodyContactForm, CcdKeepsRandomStepsApart) {
   const Bodies b = two_blocks(0.2);
   const BodyContactForm form(b.mesh, b.body, kDHat, 1.0);
+  const test::IntersectionCheck check(b.mesh, b.body, {}, {}, {});
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   int crossing_steps = 0;
   const int trials = 40;
   for (int trial = 0; trial < trials; ++trial) {
     const Eigen::VectorXd q0 = jittered(b.mesh, 5e-5, 100 + trial);
-    ASSERT_FALSE(bodies_intersect(form, q0));
+    ASSERT_EQ(check.first_intersection(q0), "");
     Eigen::Vector3d move[2];
     for (auto& m : move) m = Eigen::Vector3d(u(rng), u(rng), u(rng)) * 0.004;
     move[1].z() -= 0.004 + 0.01 * std::abs(u(rng));  // the upper block comes down
@@ -419,12 +397,12 @@ TEST(BodyContactForm, CcdKeepsRandomStepsApart) {
     for (int v = 0; v < b.mesh.num_vertices(); ++v) {
       q1.segment<3>(3 * v) += move[b.body[v]] + 5e-4 * Eigen::Vector3d(u(rng), u(rng), u(rng));
     }
-    const bool crossing = bodies_intersect(form, q1);
+    const bool crossing = !check.first_intersection(q1).empty();
     crossing_steps += crossing;
     const double t = form.max_step_size(q0, q1);
     const Eigen::VectorXd qt = q0 + t * (q1 - q0);
     EXPECT_GT(t, 0.0) << trial;
-    EXPECT_FALSE(bodies_intersect(form, qt)) << trial << ": step fraction " << t;
+    EXPECT_EQ(check.first_intersection(qt), "") << trial << ": step fraction " << t;
     EXPECT_FALSE(form.clearance(qt, kDHat).intersecting) << trial;
     EXPECT_GT(form.clearance(qt, 0.1).distance, 0.0) << trial;
     EXPECT_TRUE(form.is_step_valid(q0, qt)) << trial;
@@ -444,12 +422,14 @@ TEST(BodyContactForm, CcdCatchesAFastThinCrossing) {
   slab.V.col(2).array() = 1e-3 * slab.V.col(2).array() - 1e-3;
   const Bodies b = stack({slab, apex_down({0.003, -0.002, 5e-4})});
   const BodyContactForm form(b.mesh, b.body, kDHat, 1.0);
+  const test::IntersectionCheck check(b.mesh, b.body, {}, {}, {});
   const Eigen::VectorXd q0 = test::positions(b.mesh);
   Eigen::VectorXd q1 = q0;
   for (int v = 0; v < b.mesh.num_vertices(); ++v) {
     if (b.body[v] == 1) q1[3 * v + 2] -= 0.3;
   }
-  EXPECT_FALSE(bodies_intersect(form, q1));  // wholly beyond the slab: only CCD sees the crossing
+  // Wholly beyond the slab: only CCD sees the crossing.
+  EXPECT_EQ(check.first_intersection(q1), "");
   const double t = form.max_step_size(q0, q1);
   const Eigen::VectorXd qt = q0 + t * (q1 - q0);
   std::printf("fast thin crossing: step fraction %.3e, apex height afterwards %.3e m\n", t,
@@ -457,7 +437,7 @@ TEST(BodyContactForm, CcdCatchesAFastThinCrossing) {
   EXPECT_GT(t, 0.0);
   EXPECT_LT(t * 0.3, 5e-4);
   EXPECT_GT(qt[3 * 8 + 2], 0.05 * 5e-4);  // no pair closes more than 90 % of its gap
-  EXPECT_FALSE(bodies_intersect(form, qt));
+  EXPECT_EQ(check.first_intersection(qt), "");
   EXPECT_FALSE(form.is_step_valid(q0, q1));
   EXPECT_TRUE(form.is_step_valid(q0, qt));
 }

@@ -15,6 +15,7 @@
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -98,6 +99,7 @@ TEST(ContactResolving, RefinesAroundTheImpactAndEndsOnTheGrid) {
     EXPECT_EQ((a.q[k] - b.q[k]).lpNorm<Eigen::Infinity>(), 0.0) << k;
     EXPECT_GT(test::min_vertex_plane_distance(a.q[k], t.settings.planes), 0.0) << k;
   }
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, a), "");  // every sub-step, exactly
 }
 
 // Constant steps are unchanged by the feature: 0 sub-steps records no sizes and gives the same
@@ -110,11 +112,13 @@ TEST(ContactResolving, OffKeepsConstantSteps) {
   EXPECT_EQ(a.num_steps(), 6);
   EXPECT_EQ(a.resolving.substeps, 0);
   EXPECT_DOUBLE_EQ(a.time(6), 0.06);
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, a), "");
 }
 
 double restitution(const Throw& t) {
   Simulator sim(t.mesh, stiff(t.mesh), t.settings);
   const Trajectory traj = sim.run(t.q0, t.v0);
+  EXPECT_EQ(test::first_intersection(t.mesh, t.settings, traj), "");
   const Eigen::Vector3d v = centre_of_mass(traj.velocity(traj.num_steps()), sim.vertex_masses());
   return v.z() / -t.v0[2];
 }

@@ -16,6 +16,7 @@
 #include "rbaa/error.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -157,6 +158,7 @@ TEST(Driven, AFreeBallStruckByADrivenPaddleGainsTheDrivesImpulse) {
       b.impulse.y(), b.impulse.z(), error, worst);
   EXPECT_GE(contact_steps, 3);
   EXPECT_FALSE(intersecting);
+  EXPECT_EQ(test::first_intersection(s.mesh, s.settings, t), "");
   EXPECT_GT(closest, 0);
   EXPECT_LE(worst, 1e-12);
   // The ball left the paddle faster than it (an elastic push), and all of its gain came from the
@@ -194,6 +196,7 @@ TEST(Driven, MomentumBalanceOfABarSweepingIntoABallIncludesTheDirichletReactions
       error, worst);
   EXPECT_GE(contact_steps, 3);
   EXPECT_FALSE(intersecting);
+  EXPECT_EQ(test::first_intersection(s.mesh, s.settings, t), "");
   EXPECT_GT(closest, 0);
   EXPECT_LE(worst, 1e-12);
   EXPECT_GT(gain.y(), 0.0);  // struck along the bar's sweep
@@ -229,9 +232,18 @@ TEST(Driven, ASpinningDrivenBodyFeelsTheSameForceFromTheFirstStep) {
   EXPECT_NEAR(forces.front(), centripetal, 0.02 * centripetal);
 }
 
-std::string error_of(Simulator& sim, const test::DrivenScene& s) {
+// The run's error message; every position it reached before the error is checked for
+// intersections (the first finding in `intersection`).
+std::string error_of(Simulator& sim, const test::DrivenScene& s, std::string& intersection) {
+  const test::IntersectionCheck check(s.mesh, s.settings);
+  intersection = check.first_intersection(s.q0);
   try {
-    sim.run(s.q0, s.v0);
+    sim.run(s.q0, s.v0, [&](int step, const Eigen::VectorXd& q, const StepStats&) {
+      if (intersection.empty()) {
+        const std::string what = check.first_intersection(q);
+        if (!what.empty()) intersection = "q[" + std::to_string(step) + "]: " + what;
+      }
+    });
   } catch (const InputError& e) {
     return e.what();
   }
@@ -247,8 +259,10 @@ TEST(Driven, APrescribedStepThroughAnObstacleIsAnErrorNamingTheStep) {
   s.v0 = initial_velocities(s.q0, s.bodies);
   s.settings.planes = {Plane{Eigen::Vector3d::UnitX(), -0.005}};
   Simulator sim(s.mesh, s.materials, s.settings);
-  const std::string m = error_of(sim, s);
+  std::string intersection;
+  const std::string m = error_of(sim, s, intersection);
   std::printf("through a plane: %s\n", m.c_str());
+  EXPECT_EQ(intersection, "");
   EXPECT_NE(m.find("step 3 "), std::string::npos) << m;
   EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
@@ -259,8 +273,10 @@ TEST(Driven, APrescribedStepThroughAnotherBodyIsAnErrorNamingTheStep) {
   test::DrivenScene s = test::driven_paddle(40.0);
   s.settings.time_step = 2e-3;
   Simulator sim(s.mesh, s.materials, s.settings);
-  const std::string m = error_of(sim, s);
+  std::string intersection;
+  const std::string m = error_of(sim, s, intersection);
   std::printf("through a body: %s\n", m.c_str());
+  EXPECT_EQ(intersection, "");
   EXPECT_NE(m.find("step 1 "), std::string::npos) << m;
   EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;

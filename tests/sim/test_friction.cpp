@@ -11,6 +11,7 @@
 #include "mesh_fixtures.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -19,6 +20,7 @@ struct Slide {
   std::vector<double> time;
   std::vector<Eigen::Vector3d> velocity;  // centre of mass, BDF velocity
   double min_distance = 1;
+  std::string intersection;  // the exact check's first finding ("" none)
 };
 
 // A 0.1 m box of 1 kg (Y = 1e8) starting 0.5 d_hat above the floor z = 0 with velocity v0.
@@ -38,6 +40,7 @@ Slide slide(double mu, const Eigen::Vector3d& gravity, const Eigen::Vector3d& v0
   const Eigen::VectorXd q0 = test::positions(mesh);
   const Trajectory t = sim.run(q0, rigid_velocities(q0, Eigen::Vector3d::Zero(), v0, Eigen::Vector3d::Zero()));
   Slide r;
+  r.intersection = test::first_intersection(mesh, s, t);
   for (int k = 0; k <= steps; ++k) {
     r.time.push_back(t.time(k));
     r.velocity.push_back(centre_of_mass(t.velocity(k), sim.vertex_masses()));
@@ -67,9 +70,11 @@ TEST(Friction, ABoxSlidingOnAFloorDeceleratesAtMuG) {
               mu, -a, mu * g, 100 * (-a / (mu * g) - 1), r.velocity.back().x());
   EXPECT_NEAR(-a, mu * g, 0.02 * mu * g);
   EXPECT_GT(r.min_distance, 0);
+  EXPECT_EQ(r.intersection, "");
   // Frictionless, it keeps its speed.
   const Slide free = slide(0.0, Eigen::Vector3d(0, 0, -g), Eigen::Vector3d(1, 0, 0), 50);
   EXPECT_NEAR(free.velocity.back().x(), 1.0, 1e-6);
+  EXPECT_EQ(free.intersection, "");
 }
 
 TEST(Friction, ABoxOnAnInclineSticksOrSlidesAsCoulombSays) {
@@ -95,6 +100,8 @@ TEST(Friction, ABoxOnAnInclineSticksOrSlidesAsCoulombSays) {
   EXPECT_NEAR(creep, creep_expected, 0.01 * creep_expected);
   EXPECT_NEAR(a, expected, 0.03 * expected);
   EXPECT_GT(slip.velocity.back().x(), 50 * eps_v);
+  EXPECT_EQ(stick.intersection, "");
+  EXPECT_EQ(slip.intersection, "");
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "obstacle_fixtures.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -25,6 +26,7 @@ struct Slide {
   std::vector<Eigen::Vector3d> centre, velocity;  // centre of mass, BDF velocity
   double min_distance = 1;
   bool crossing = false;
+  std::string intersection;  // the exact check's first finding ("" none)
   int lagged_steps = 0;  // steps with lagged mesh-friction pairs
 };
 
@@ -77,6 +79,7 @@ Slide slide(bool on_mesh, double mu, const Eigen::Vector3d& v0, int steps, doubl
                   r.lagged_steps += sim.pair_friction_form()->num_lagged_pairs() > 0;
                 }
               });
+  r.intersection = test::first_intersection(mesh, s, t);
   for (int k = 0; k <= steps; ++k) {
     r.time.push_back(t.time(k));
     r.centre.push_back(centre_of_mass(t.q[k], sim.vertex_masses()));
@@ -113,6 +116,8 @@ TEST(MeshFriction, ABoxSlidingOnAMeshFloorDeceleratesAtMuGAlongThePlanesPath) {
   EXPECT_LE(gap, 1e-6 * extent);  // issue 19's bar for the frictionless landing, kept here
   EXPECT_GT(mesh.min_distance, 0);
   EXPECT_FALSE(mesh.crossing);
+  EXPECT_EQ(mesh.intersection, "");
+  EXPECT_EQ(plane.intersection, "");
 }
 
 TEST(MeshFriction, ABoxOnAMeshInclineSticksOrSlidesAsCoulombSays) {
@@ -142,6 +147,7 @@ TEST(MeshFriction, ABoxOnAMeshInclineSticksOrSlidesAsCoulombSays) {
   for (const Slide* s : {&stick, &slip}) {
     EXPECT_GT(s->min_distance, 0);
     EXPECT_FALSE(s->crossing);
+    EXPECT_EQ(s->intersection, "");
   }
 }
 
@@ -238,6 +244,7 @@ TEST(MeshFriction, ABoxSlidingOnASlabDeceleratesRelativeToItAtMuG) {
   EXPECT_LT(worst_imbalance, 1e-12);
   EXPECT_GT(closest, 0);
   EXPECT_FALSE(crossing);
+  EXPECT_EQ(test::first_intersection(mesh, s, t), "");
 }
 
 }  // namespace

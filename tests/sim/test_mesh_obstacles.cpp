@@ -11,6 +11,7 @@
 #include "obstacle_fixtures.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -62,6 +63,8 @@ TEST(MeshObstacles, BallOnTwoTrianglesFollowsTheAnalyticPlane) {
   Simulator b(on_mesh.mesh, stiff(on_mesh.mesh), on_mesh.settings);
   const Trajectory ta = a.run(on_plane.q0, on_plane.v0);
   const Trajectory tb = b.run(on_mesh.q0, on_mesh.v0);
+  EXPECT_EQ(test::first_intersection(on_plane.mesh, on_plane.settings, ta), "");
+  EXPECT_EQ(test::first_intersection(on_mesh.mesh, on_mesh.settings, tb), "");
   double gap = 0, extent = 0, gap_all = 0;
   int contact_steps = 0;
   for (std::size_t k = 0; k < ta.q.size(); ++k) {
@@ -117,6 +120,7 @@ TEST(MeshObstacles, BallStrikingABoxEdgeAndCornerNeverIntersects) {
     b.settings.obstacle_meshes = {test::box_obstacle(c.lo, c.hi)};
     Simulator sim(b.mesh, stiff(b.mesh), b.settings);
     const Trajectory t = sim.run(b.q0, b.v0);
+    EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "") << c.name;
     const MeshObstacleForm& form = *sim.mesh_obstacle_form();
     double closest = std::numeric_limits<double>::infinity();
     int contact_steps = 0;
@@ -155,6 +159,7 @@ TEST(MeshObstacles, AnObstacleOutOfReachChangesNothing) {
   ASSERT_EQ(ta.q.size(), tb.q.size());
   for (std::size_t k = 0; k < ta.q.size(); ++k)
     EXPECT_TRUE((ta.q[k].array() == tb.q[k].array()).all()) << k;
+  EXPECT_EQ(test::first_intersection(far.mesh, far.settings, tb), "");  // ta is the same
 }
 
 TEST(MeshObstacles, AStartInsideOrOnAnObstacleIsRefused) {
@@ -165,6 +170,7 @@ TEST(MeshObstacles, AStartInsideOrOnAnObstacleIsRefused) {
   b.settings.obstacle_meshes = {
       test::box_obstacle(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 0))};
   b.settings.obstacle_meshes[0].name = "obstacles.meshes[0] (box.obj)";
+  EXPECT_NE(test::first_intersection(b.mesh, b.settings, b.q0), "");  // the exact check agrees
   Simulator sim(b.mesh, stiff(b.mesh), b.settings);
   try {
     sim.reset(b.q0, b.v0);

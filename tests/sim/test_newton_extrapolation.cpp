@@ -12,6 +12,7 @@
 #include "rbaa/mesh/tetrahedralize.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -57,6 +58,7 @@ TEST(NewtonExtrapolation, AStackOfCubesSettlesInFewIterations) {
   }
   EXPECT_GT(extrapolations, 0);
   EXPECT_LE(iterations, 25);  // 47 without extrapolation
+  EXPECT_EQ(test::first_intersection(stack, s, t), "");
 }
 
 }  // namespace

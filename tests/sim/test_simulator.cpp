@@ -16,6 +16,7 @@
 #include "rbaa/sim/parallel.hpp"
 #include "rbaa/sim/simulator.hpp"
 #include "rbaa/sim/threads.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -217,6 +218,7 @@ BounceRun simulate_bounce(const TetMesh& mesh, const MaterialField& field, Simul
     EXPECT_GT(d, 0.0);
   }
   for (const auto& q : r.trajectory.q) EXPECT_TRUE(q.allFinite());
+  EXPECT_EQ(test::first_intersection(mesh, s, r.trajectory), "");
   return r;
 }
 
@@ -264,6 +266,7 @@ TEST(Simulator, StiffBoxLandingFlatFollowsThePointMassRecurrence) {
   const Eigen::VectorXd v0 = rigid_velocities(q0, Eigen::Vector3d::Zero(),
                                               Eigen::Vector3d(0, 0, v_in), Eigen::Vector3d::Zero());
   const Trajectory t = sim.run(q0, v0);
+  EXPECT_EQ(test::first_intersection(mesh, s, t), "");
   const double m = sim.vertex_masses().sum();
 
   const contact::Barrier barrier(s.d_hat);
@@ -385,6 +388,7 @@ TEST(Simulator, ResultsDoNotDependOnTheThreadCount) {
   }
   set_simulation_threads(threads);
   for (int k = 0; k <= s.num_steps; ++k) EXPECT_EQ((runs[0].q[k] - runs[1].q[k]).norm(), 0.0);
+  EXPECT_EQ(test::first_intersection(mesh, s, runs[0]), "");  // runs[1] is the same
 }
 
 TEST(Simulator, BadInputGivesClearErrors) {

@@ -17,6 +17,7 @@
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/rigid_rotation_correction.hpp"
 #include "rbaa/sim/simulator.hpp"
+#include "support/intersection_free.hpp"
 
 namespace rbaa {
 namespace {
@@ -73,6 +74,8 @@ void run_case(const TetMesh& mesh, const Case& c, double speed) {
   }
   if (d_void < d_min) std::printf("  (vertices of void elements only reach %.2e m)\n", d_void);
   for (const auto& q : t.q) ASSERT_TRUE(q.allFinite());
+  // Exactly, the surface: the void core's vertices above are interior.
+  EXPECT_EQ(test::first_intersection(placed, s, t), "");
   const double vz_end = centre_of_mass(t.velocity(t.num_steps()), sim.vertex_masses()).z();
   std::printf("%-42s steps %3d  max Newton it %3d  d_min %.2e  v_z end %+7.3f m/s (e ~ %.2f)\n",
               c.label.c_str(), t.num_steps(), max_it, d_min, vz_end, vz_end / speed);
