@@ -238,6 +238,7 @@ TEST(ContactRestitution, APairsReadingStopsWhenItsSecondBodyTouchesAnother) {
   const TetMesh mesh = make_scene_mesh(scene);
   const SimulationRun run =
       run_simulation(scene, mesh, MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0));
+  EXPECT_EQ(test::first_intersection(run.mesh, run.settings, run.trajectory), "");
   const std::vector<ContactEpisode> episodes =
       first_contact_episodes(run, scene.obstacle_meshes, scene.planes, scene.d_hat);
   const ContactEpisode* strike = nullptr;
