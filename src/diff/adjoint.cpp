@@ -192,6 +192,11 @@ Trajectory DifferentiableSimulator::forward(const MaterialField& materials,
   if (!store) spare_.clear();
   // Newton's chord start (NewtonSettings::chord_first_step) finds the previous step's factor
   // here once it has been taken from Newton's solver.
+  // sim_ may outlive this object: the hook is removed however the run ends.
+  struct ChordHook {
+    NewtonSolver& newton;
+    ~ChordHook() { newton.set_chord_solve(nullptr); }
+  } hook{sim_.newton()};
   if (store) {
     sim_.newton().set_chord_solve([this](const Eigen::VectorXd& b) {
       return factors_.empty() || !factors_.back() ? Eigen::VectorXd() : factors_.back()->solve(b);
@@ -216,7 +221,6 @@ Trajectory DifferentiableSimulator::forward(const MaterialField& materials,
     if (callback) callback(step, q, s);
   });
   spare_.clear();  // hold no more factors than this run's
-  sim_.newton().set_chord_solve(nullptr);
   return trajectory;
 }
 

@@ -247,8 +247,36 @@ TEST(TwoBodyFrictionGradient, AdjointMatchesFiniteDifferencesPerFieldAndBody) {
             r);
       EXPECT_GE(r.active_contact_steps, 3);
       for (const DirectionCheck& d : r.directions) EXPECT_NE(d.adjoint, 0.0);
-      EXPECT_LE(r.max_relative_error, 1e-5) << design_field_name(field) << " of " << body.name;
+      // As in TwoBodyGradient (test_two_body_gradient.cpp, where it is measured): a random
+      // direction of nu is nearly orthogonal to nu's small gradient (|g| 6.5e-8), so s x slope
+      // sits near C's noise, which follows Newton's final residual. Measured 2026-11-27 with the
+      // chord start: one such direction of A 3.1e-5 at s = 1e-2, 4.1e-7 at 4 s (noise-dominated).
+      // It is accepted only as noise-dominated; nu is held to 1e-5 along its own gradient below.
+      for (const DirectionCheck& d : r.directions) {
+        EXPECT_TRUE(d.relative_error <= 1e-5 || (field == DesignField::kNu && d.noise_dominated))
+            << design_field_name(field) << " of " << body.name << ": " << d.relative_error;
+      }
       EXPECT_EQ(test::first_intersection(t.mesh, t.settings, f.last().trajectory), "");
+      if (field == DesignField::kNu) {
+        // Along nu's gradient (restricted to this body), where the slope stands far above noise.
+        const Eigen::VectorXd theta = ds.initial_theta(true);
+        Eigen::VectorXd g;
+        f.evaluate(theta, &g);
+        Eigen::VectorXd d = Eigen::VectorXd::Zero(g.size());
+        for (int i = 0; i < g.size(); ++i) {  // nu: one entry per element
+          if (i >= body.element_begin && i < body.element_end) d[i] = g[i];
+        }
+        ASSERT_GT(d.norm(), 0.0);
+        const double slope = d.norm();
+        d /= slope;
+        const double s = 1e-3;
+        const double fd =
+            (f.evaluate(theta + s * d, nullptr) - f.evaluate(theta - s * d, nullptr)) / (2 * s);
+        const double error = std::abs(fd - slope) / std::max(std::abs(fd), slope);
+        std::printf("two balls friction nu of %s along its gradient: slope %.6e, relative error %.2e\n",
+                    body.name.c_str(), slope, error);
+        EXPECT_LE(error, 1e-5) << "nu of " << body.name;
+      }
     }
   }
 }
