@@ -68,6 +68,18 @@ inline TetMesh lifted(TetMesh m, double gap) {
 }
 
 /// The mesh's vertices as the stacked vector q (3 #V).
+/// One positively oriented tet with corners a, b, c, d.
+inline TetMesh tet(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                   const Eigen::Vector3d& d) {
+  TetMesh m;
+  m.V.resize(4, 3);
+  m.V << a.transpose(), b.transpose(), c.transpose(), d.transpose();
+  m.T.resize(1, 4);
+  m.T << 0, 1, 2, 3;
+  orient_tets_positively(m);
+  return m;
+}
+
 inline Eigen::VectorXd positions(const TetMesh& m) {
   return Eigen::Map<const Eigen::VectorXd>(m.V.data(), 3 * m.num_vertices());
 }

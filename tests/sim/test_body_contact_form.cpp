@@ -28,6 +28,8 @@
 namespace rbaa {
 namespace {
 
+using test::tet;
+
 constexpr double kDHat = 1e-3;
 constexpr double kL = 0.01;  // size of the single-tet bodies
 
@@ -55,17 +57,6 @@ Bodies stack(const std::vector<TetMesh>& parts) {
     ot += parts[i].num_tets();
   }
   return b;
-}
-
-TetMesh tet(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-            const Eigen::Vector3d& d) {
-  TetMesh m;
-  m.V.resize(4, 3);
-  m.V << a.transpose(), b.transpose(), c.transpose(), d.transpose();
-  m.T.resize(1, 4);
-  m.T << 0, 1, 2, 3;
-  orient_tets_positively(m);
-  return m;
 }
 
 // A tet whose top face is the triangle (0,0,0), (L,0,0), (0,L,0).

@@ -22,16 +22,7 @@
 namespace rbaa {
 namespace {
 
-TetMesh tet(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-            const Eigen::Vector3d& d) {
-  TetMesh m;
-  m.V.resize(4, 3);
-  m.V << a.transpose(), b.transpose(), c.transpose(), d.transpose();
-  m.T.resize(1, 4);
-  m.T << 0, 1, 2, 3;
-  orient_tets_positively(m);
-  return m;
-}
+using test::tet;
 
 // Two single-tet bodies stacked into one mesh: body 0 has the face z = 0 on top (the triangle
 // (0,0,0), (1,0,0), (0,1,0)), body 1 its apex at `apex` pointing down.
