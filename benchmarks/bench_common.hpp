@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "rbaa/scene/scene.hpp"
+#include "rbaa/sim/threads.hpp"
 
 namespace rbaa_bench {
 
@@ -42,7 +43,13 @@ inline std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
+/// Also sets the threads as `rbaa` does (tune_threads_for_shared_cores: OpenMP dynamic teams,
+/// OpenBLAS on 1 thread unless the environment says otherwise), so that a benchmark times what
+/// the command line runs; without it CHOLMOD's teams spun in futex calls (bench_gradient on the
+/// cube: system 20 s beside user 23 s).
 inline Options parse_options(int& argc, char** argv, std::vector<std::string> default_scenes) {
+  const std::string threads = rbaa::tune_threads_for_shared_cores();
+  if (!threads.empty()) std::printf("threads as rbaa sets them: %s\n", threads.c_str());
   Options o;
   o.scenes = std::move(default_scenes);
   int kept = 1;
