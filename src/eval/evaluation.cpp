@@ -384,14 +384,17 @@ RestitutionCalibration calibrate_contact_restitution(
   const EpisodeSides sides = episode_sides(bodies, episode, c.time);
   if (!sides.body_free && !sides.other_free) return c;  // two driven sides: no impulse to fit
 
-  // The run's rebound: centre-of-mass velocities of the free sides from its trajectory.
+  // The run's rebound: centre-of-mass velocities of the free sides from its trajectory. An
+  // episode indexes the grid of h; with contact-resolving steps the trajectory also holds the
+  // sub-steps between, so grid position k is frame grid[k].
+  const std::vector<int> grid = run.trajectory.grid_frames();
   auto deformable_velocity = [&](int b, const PrescribedMotion* drive, int k) -> Eigen::Vector3d {
-    const double t = run.trajectory.time(k);
+    const double t = run.trajectory.time(grid.at(k));
     if (drive) return drive->point_velocity(sides.material_point, t);
     if (bodies.empty()) return run.observables.at(k).com_velocity;
     const Body& body = bodies.at(b);
     return centre_of_mass(
-        run.trajectory.velocity(k).segment(3 * body.vertex_begin, 3 * body.num_vertices()),
+        run.trajectory.velocity(grid.at(k)).segment(3 * body.vertex_begin, 3 * body.num_vertices()),
         run.vertex_masses.segment(body.vertex_begin, body.num_vertices()));
   };
   auto relative = [&](auto&& velocity, int k) -> Eigen::Vector3d {
@@ -403,7 +406,8 @@ RestitutionCalibration calibrate_contact_restitution(
   const int k_in = episode.first_step - 1, k_out = episode.out_step;
   const double target =
       episode_rebound(relative(deformable_velocity, k_in), relative(deformable_velocity, k_out),
-                      sides, scene.gravity, run.trajectory.time(k_in), run.trajectory.time(k_out));
+                      sides, scene.gravity, run.trajectory.time(grid.at(k_in)),
+                      run.trajectory.time(grid.at(k_out)));
   c.deformable_rebound = target;
   if (!(target > 0)) return c;  // no reversal: nothing a restitution reproduces
 
