@@ -778,6 +778,22 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   }
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);
+  {
+    // Bullet's own sensitivity to differences of the adversarial's size in its inputs.
+    const double radius = std::sqrt(ref_mass.principal_moments.maxCoeff() / ref_mass.mass);
+    double delta = std::max(std::abs(adv_mass.mass / ref_mass.mass - 1),
+                            (adv_mass.centre - ref_mass.centre).norm() / radius);
+    for (int i = 0; i < 3; ++i) {
+      delta = std::max(delta, std::abs(adv_mass.principal_moments[i] / ref_mass.principal_moments[i] - 1));
+    }
+    ev.rigid_perturbation = std::max(delta, 1e-15);
+    RigidMassProperties perturbed = ref_mass;
+    perturbed.mass *= 1 + ev.rigid_perturbation;
+    perturbed.principal_moments *= 1 + ev.rigid_perturbation;
+    const auto runs = simulate_rigid_bodies(perturbed, ref_shape, scene, chosen.rigid, ev.duration, further);
+    ev.rigid_sensitivity = compare_runs(
+        ev.rigid_reference, trace_from_rigid("rigid reference, inputs perturbed", runs.at(traced), 0));
+  }
   ev.deformable_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_adversarial);
   ev.deformable_vs_rigid = compare_runs(ev.deformable_reference, ev.rigid_reference);
   ev.adversarial_vs_rigid = compare_runs(ev.deformable_adversarial, ev.rigid_reference);

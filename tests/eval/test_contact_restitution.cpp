@@ -178,6 +178,33 @@ std::string two_balls_yaml() {
          "material_bounds: {Y: [2.5e9, 1.0e11]}\n";
 }
 
+// Evaluate's check of the rigid simulator's own sensitivity (rigid_sensitivity) perturbs the
+// reference twin's mass and principal moments by the two objects' largest relative difference. An
+// "adversarial" ball that is the reference at 1.001 times its density differs from it by exactly
+// that scaling, so the perturbed reference twin is the adversarial's twin: the two gaps agree, and
+// in the two-ball collision (the mass ratio sets the outcome) both are far above 1e-9 m.
+TEST(ContactRestitution, TheRigidSensitivityRunIsTheReferenceTwinPerturbedAsTheObjectsDiffer) {
+  const Scene scene = parse_scene(two_balls_yaml(), "two_balls.yaml", dir());
+  const TetMesh mesh = make_scene_mesh(scene);
+  const MaterialField heavier = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1001, 1.0);
+  EvaluationOptions options;
+  options.time_step = scene.time_step;
+  options.duration = scene.duration;
+  options.soft_control = false;
+  const Evaluation ev = evaluate(scene, mesh, mesh, heavier, options);
+  std::printf("perturbation %.3e: rigid adversarial vs reference %.6e m, perturbed reference %.6e m\n",
+              ev.rigid_perturbation, ev.rigid_vs_rigid.max_position_gap,
+              ev.rigid_sensitivity.max_position_gap);
+  EXPECT_NEAR(ev.rigid_perturbation, 1e-3, 1e-12);
+  EXPECT_GT(ev.rigid_vs_rigid.max_position_gap, 1e-6);
+  EXPECT_NEAR(ev.rigid_sensitivity.max_position_gap, ev.rigid_vs_rigid.max_position_gap,
+              1e-9 + 1e-6 * ev.rigid_vs_rigid.max_position_gap);
+  // The same object as its own adversary: nothing to perturb but the floor of 1e-15.
+  const Evaluation same = evaluate(scene, mesh, mesh, MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0), options);
+  EXPECT_EQ(same.rigid_perturbation, 1e-15);
+  EXPECT_LT(same.rigid_sensitivity.max_position_gap, 1e-12);
+}
+
 TEST(ContactRestitution, ThePairsFittedRestitutionMakesTheTwinBallsLeaveAsTheDeformableOnes) {
   const Scene scene = parse_scene(two_balls_yaml(), "two_balls.yaml", dir());
   const TetMesh mesh = make_scene_mesh(scene);

@@ -138,6 +138,14 @@ struct Evaluation {
   std::vector<RestitutionCalibration> calibrations;
   RunTrace rigid_reference, rigid_adversarial, deformable_reference, deformable_adversarial;
   RunComparison rigid_vs_rigid, deformable_vs_deformable, deformable_vs_rigid;
+  /// The rigid simulator's own sensitivity: the rigid reference run again with its mass and
+  /// principal moments scaled by 1 + rigid_perturbation, the largest relative difference between
+  /// the adversarial's and the reference's rigid inputs (mass, centre over the radius of
+  /// gyration, principal moments; at least 1e-15), against the rigid reference. Where obstacle
+  /// meshes switch contacts discontinuously Bullet amplifies round-off in its inputs; when
+  /// rigid_vs_rigid is no larger than this, the twins' gap is that amplification, not the objects.
+  double rigid_perturbation = 0;
+  RunComparison rigid_sensitivity;
   /// The deformable adversarial object against the rigid reference: what a rigid-body simulator
   /// predicts for the object against what happens to it.
   RunComparison adversarial_vs_rigid;
