@@ -787,9 +787,12 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
       delta = std::max(delta, std::abs(adv_mass.principal_moments[i] / ref_mass.principal_moments[i] - 1));
     }
     ev.rigid_perturbation = std::max(delta, 1e-15);
+    // Mass and moments scaled, and the centre (where the collision shape sits against the centre
+    // of mass) moved by as much as the adversarial's moved, along x.
     RigidMassProperties perturbed = ref_mass;
     perturbed.mass *= 1 + ev.rigid_perturbation;
     perturbed.principal_moments *= 1 + ev.rigid_perturbation;
+    perturbed.centre.x() += (adv_mass.centre - ref_mass.centre).norm();
     const auto runs = simulate_rigid_bodies(perturbed, ref_shape, scene, chosen.rigid, ev.duration, further);
     ev.rigid_sensitivity = compare_runs(
         ev.rigid_reference, trace_from_rigid("rigid reference, inputs perturbed", runs.at(traced), 0));

@@ -329,7 +329,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << " The rigid simulator's own sensitivity: the rigid reference with its mass and principal "
            "moments scaled by 1 + "
         << fmt(ev.rigid_perturbation) << " (the largest relative difference between the two objects' "
-           "rigid inputs) strays up to "
+           "rigid inputs) and its centre of mass moved as far as theirs differ strays up to "
         << fmt(ev.rigid_sensitivity.max_position_gap) << " m from itself"
         << (ev.rigid_vs_rigid.max_position_gap > 1e-9 &&
                     ev.rigid_vs_rigid.max_position_gap <= 10 * ev.rigid_sensitivity.max_position_gap

@@ -139,7 +139,8 @@ struct Evaluation {
   RunTrace rigid_reference, rigid_adversarial, deformable_reference, deformable_adversarial;
   RunComparison rigid_vs_rigid, deformable_vs_deformable, deformable_vs_rigid;
   /// The rigid simulator's own sensitivity: the rigid reference run again with its mass and
-  /// principal moments scaled by 1 + rigid_perturbation, the largest relative difference between
+  /// principal moments scaled by 1 + rigid_perturbation and its centre of mass moved along x by
+  /// as much as the adversarial's lies from the reference's, the largest relative difference between
   /// the adversarial's and the reference's rigid inputs (mass, centre over the radius of
   /// gyration, principal moments; at least 1e-15), against the rigid reference. Where obstacle
   /// meshes switch contacts discontinuously Bullet amplifies round-off in its inputs; when
