@@ -25,8 +25,10 @@ int run_export() {
   if (FLAGS_out.empty()) throw rbaa::InputError("--out is required");
   const rbaa::Scene loaded = rbaa::cli::load_scene_from_flags();
   // An adversarial object of an attack on another body (attack.body) takes that body's place.
-  const rbaa::Scene scene =
-      FLAGS_adversarial.empty() ? loaded : rbaa::swap_object(loaded, loaded.attack_body);
+  // demonstration.object_copies: those bodies are copies of the exported object, with its
+  // materials, as in `rbaa evaluate`.
+  const rbaa::Scene scene = rbaa::with_object_copies(
+      FLAGS_adversarial.empty() ? loaded : rbaa::swap_object(loaded, loaded.attack_body));
   rbaa::ExportObject object;
   if (FLAGS_adversarial.empty()) {
     object = rbaa::reference_export_object(scene);
@@ -66,7 +68,8 @@ RBAA_REGISTER_VERB(export, rbaa::cli::Verb{
     "Writes DIR/scene.json for PolyFEM's command line (PolyFEM_bin -j DIR/scene.json) with:\n"
     "DIR/object.msh and DIR/body_<i>_<name>.msh, every body as a Gmsh 2.2 ASCII tet mesh placed\n"
     "at t = 0 (the object is the reference, or the --adversarial mesh with its void elements,\n"
-    "alpha < attack.round_threshold, removed and its centre of mass moved to object.position);\n"
+    "alpha < attack.round_threshold, removed and its centre of mass moved to object.position;\n"
+    "a body of demonstration.object_copies is a copy of that object, with its materials);\n"
     "DIR/E.txt, nu.txt, rho.txt, one value per element, all bodies' elements in file order\n"
     "(a partly occupied element as alpha^3 Y and alpha rho); DIR/plane_<i>.obj, each analytic\n"
     "plane as a square of two triangles (PolyFEM's own planes take no part in its contact),\n"

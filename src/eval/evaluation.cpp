@@ -139,6 +139,27 @@ int evaluated_body(const Scene& scene) {
   return 0;
 }
 
+// The twins of a world's further bodies (bodies[1..]) when its object has `object` materials:
+// a copy of the object (SceneWorld::copies) takes them.
+std::vector<RigidBody> further_twins(const SceneWorld& world, const MaterialField& object) {
+  return rigid_bodies(world.mesh, std::vector<Body>(world.bodies.begin() + 1, world.bodies.end()),
+                      world.materials(object).effective_density());
+}
+
+// Every body's moments in a deformable run (run.bodies: the object, then the scene's), from the
+// run's own stacked mesh and materials.
+std::vector<Moments> body_moments(const SimulationRun& run) {
+  const Eigen::VectorXd density = run.materials.effective_density();
+  std::vector<Moments> out;
+  for (const Body& b : run.bodies) {
+    TetMesh mesh;
+    mesh.V = run.mesh.V.middleRows(b.vertex_begin, b.num_vertices());
+    mesh.T = run.mesh.T.middleRows(b.element_begin, b.num_elements()).array() - b.vertex_begin;
+    out.push_back(compute_moments(mesh, Eigen::VectorXd(density.segment(b.element_begin, b.num_elements()))));
+  }
+  return out;
+}
+
 // The adversarial object must have the reference's outer surface: every reference boundary
 // vertex is an adversarial vertex, and the bounding boxes agree.
 void check_same_surface(const TetMesh& reference, const TetMesh& adversarial, const std::string& what) {
@@ -559,6 +580,7 @@ struct BaselineAtStep {
   RigidSettings rigid;
   double rigid_internal_step = 0;
   std::vector<BodyPath> baseline_paths, rigid_paths;  ///< every body's, for a demonstration
+  std::vector<Moments> body_moments;                 ///< the baseline's, every body's
 };
 
 BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const MaterialField& materials,
@@ -570,6 +592,7 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   const SimulationRun baseline = run_simulation(scene, mesh, materials, sim_options);
   const int traced = evaluated_body(scene);
   out.baseline = trace_from_deformable("deformable reference", baseline, traced);
+  out.body_moments = body_moments(baseline);
 
   rigid.margin = std::min(rigid.margin, scene.d_hat);
   const int substeps = static_cast<int>(std::ceil(scene.time_step / rigid.internal_step - 1e-9));
@@ -627,9 +650,11 @@ std::vector<TwinFriction> twin_friction(const Scene& scene, int num_bodies) {
 
 }  // namespace
 
-Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
+Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
                     const TetMesh& adversarial_as_given, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options) {
+  // demonstration.object_copies: those bodies are copies of each run's object (make_world).
+  const Scene scene_in = with_object_copies(scene_given);
   // The adversarial object takes the object's place; an attack on another body made a design
   // for that body: the caller puts it in the object's place first (swap_object).
   if (scene_in.attack_body != scene_in.object_name) {
@@ -694,10 +719,14 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   // The scene's further bodies move in the twins as in the deformable runs (which stack them after
   // the object); the comparison is of one body alone: the object, or evaluation.body (the bat's
   // struck ball).
+  // Copies of the object (demonstration.object_copies) are each run's object: the adversarial
+  // twins' copies are built from the adversarial object's mesh and materials. The soft control's
+  // are the reference's (its twin reads densities only, and its density is the reference's).
   const SceneWorld world = make_world(scene_in, reference_mesh);
-  const std::vector<RigidBody> further = rigid_bodies(
-      world.mesh, std::vector<Body>(world.bodies.begin() + 1, world.bodies.end()),
-      world.materials(reference_materials).effective_density());
+  const std::vector<RigidBody> further = further_twins(world, reference_materials);
+  const std::vector<RigidBody> adversarial_further =
+      world.copies.empty() ? further
+                           : further_twins(make_world(scene_in, adversarial_mesh), adversarial_materials);
 
   // Deformable runs with the reference scene's frozen kappa. The baseline decides the step: the
   // comparison means something only where the stiff uniform object and its calibrated rigid twin
@@ -747,11 +776,11 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
                                 ref_shape, scene, further, rigid_settings, options.calibration_tolerance);
   }
   ev.adversarial_own_twin = own_twin(adversarial, ev.deformable_adversarial, "rigid twin of the adversarial",
-                                     adv_mass, adv_shape, scene, further, rigid_settings,
+                                     adv_mass, adv_shape, scene, adversarial_further, rigid_settings,
                                      options.calibration_tolerance);
   const auto start = std::chrono::steady_clock::now();
-  const auto rigid_adv =
-      simulate_rigid_bodies(adv_mass, adv_shape, scene, chosen.rigid, ev.duration, further);
+  const auto rigid_adv = simulate_rigid_bodies(adv_mass, adv_shape, scene, chosen.rigid,
+                                               ev.duration, adversarial_further);
   ev.rigid_adversarial =
       trace_from_rigid("rigid adversarial", rigid_adv.at(traced), seconds_since(start));
   if (scene_in.demonstration.enabled) {
@@ -805,6 +834,8 @@ Evaluation evaluate(const Scene& scene_in, const TetMesh& reference_mesh,
   ev.reference_own_twin.gap = ev.deformable_vs_rigid;
   ev.reference_own_twin.path_length = ev.baseline_path_length;
   ev.reference_own_twin.unexplained = ev.baseline_disagreement;
+  ev.reference_body_moments = std::move(chosen.body_moments);
+  ev.adversarial_body_moments = body_moments(adversarial);
   ev.adversarial_mesh = adversarial_mesh;
   ev.adversarial_materials = adversarial_materials;
   ev.attack_advantage = ev.deformable_vs_rigid.position_gap > 0

@@ -171,6 +171,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         {"figure_body", demo.figure_body},
         {"figure_against", demo.figure_against_own_simulator ? "own_simulator" : "rigid_reference"},
         {"figure_projection", demo.figure_horizontal ? "horizontal" : "none"},
+        {"object_copies", demo.object_copies},
         {"runs", nlohmann::json::array()}};
     for (const DemonstrationOutcome& o : ev.outcomes) {
       outcomes["runs"].push_back({{"run", o.run},
@@ -264,7 +265,14 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
                         (demo.figure_horizontal ? ", both projected onto the horizontal plane"
                                                 : "") +
                         " (deg)")
-          << ".\n\n| run | predicate | figure (deg) | why |\n|---|---|---|---|\n";
+          << ".";
+      if (!demo.object_copies.empty()) {
+        out << " Copies of each run's object (its mesh and materials at their own poses):";
+        for (size_t i = 0; i < demo.object_copies.size(); ++i)
+          out << (i ? ", " : " ") << "'" << demo.object_copies[i] << "'";
+        out << ".";
+      }
+      out << "\n\n| run | predicate | figure (deg) | why |\n|---|---|---|---|\n";
       for (const DemonstrationOutcome& o : ev.outcomes) {
         out << "| " << o.run << " | "
             << (o.has_predicate ? (o.predicate.holds ? "true" : "false") : "-") << " | "

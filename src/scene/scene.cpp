@@ -722,6 +722,40 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
       d.fail(d.child("figure_projection"), "figure_projection",
              "horizontal needs gravity (the plane normal to it); this scene has none");
     }
+    if (d.has("object_copies")) {
+      // Bodies that are copies of each run's object (with_object_copies, scene_world.hpp). An
+      // empty list is none (--set=demonstration.object_copies=[] turns them off).
+      const YAML::Node c = d.child("object_copies");
+      if (!c.IsSequence()) d.fail(c, "object_copies", "expected a list of body names");
+      for (const auto& item : c) {
+        const std::string name = item.IsScalar() ? item.Scalar() : "";
+        if (name == "object") {
+          d.fail(item, "object_copies",
+                 "'object' is the object itself (list the bodies that are to be its copies)");
+        }
+        const auto body = std::find_if(s.bodies.begin(), s.bodies.end(),
+                                       [&](const BodySpec& b) { return b.name == name; });
+        if (body == s.bodies.end()) {
+          std::string list;
+          for (const BodySpec& b : s.bodies) list += (list.empty() ? "" : ", ") + b.name;
+          d.fail(item, "object_copies",
+                 "'" + name + "' names no body (the bodies are: " +
+                     (list.empty() ? "none" : list) + ")");
+        }
+        if (std::count(demo.object_copies.begin(), demo.object_copies.end(), name))
+          d.fail(item, "object_copies", "'" + name + "' is listed twice");
+        if (!body->materials_file.empty()) {
+          d.fail(item, "object_copies",
+                 "'" + name + "' has a materials file, but a copy takes each run's object's "
+                 "materials (remove its materials)");
+        }
+        if (body->driven.enabled) {
+          d.fail(item, "object_copies",
+                 "'" + name + "' is driven; a copy of the object cannot be (remove its driven)");
+        }
+        demo.object_copies.push_back(name);
+      }
+    }
     d.finish();
     if (demo.predicate.kind == PredicateSpec::Kind::kNone && demo.figure.empty()) {
       d.fail(node, "", "give a predicate, a figure or both");

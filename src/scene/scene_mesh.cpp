@@ -85,6 +85,30 @@ TetMesh make_body_mesh(const Scene& scene, const BodySpec& body) {
   return mesh;
 }
 
+TetMesh make_copy_mesh(const Scene& scene, const BodySpec& body, const TetMesh& object_mesh) {
+  TetMesh mesh = object_mesh;
+  const bool same_turn =
+      body.rotation_angle_deg == scene.rotation_angle_deg &&
+      (body.rotation_angle_deg == 0 ||
+       body.rotation_axis.normalized() == scene.rotation_axis.normalized());
+  if (same_turn) {
+    mesh.V.rowwise() += (body.position - scene.position).transpose();
+  } else {
+    auto turn = [](const Eigen::Vector3d& axis, double angle_deg) {
+      return Eigen::AngleAxisd(angle_deg * M_PI / 180.0, axis.normalized()).toRotationMatrix();
+    };
+    const Eigen::Matrix3d R = turn(body.rotation_axis, body.rotation_angle_deg) *
+                              turn(scene.rotation_axis, scene.rotation_angle_deg).transpose();
+    for (int i = 0; i < mesh.num_vertices(); ++i) {
+      const Eigen::Vector3d x = mesh.V.row(i).transpose() - scene.position;
+      mesh.V.row(i) = (R * x + body.position).transpose();
+    }
+  }
+  check_clear_of_obstacles(scene, mesh, scene.source + ": ",
+                           "body '" + body.name + "' (a copy of the object)");
+  return mesh;
+}
+
 TetMesh place_centre_of_mass(const Scene& scene, TetMesh mesh, const Eigen::VectorXd& density,
                              const std::string& source) {
   if (density.size() != mesh.num_tets()) {

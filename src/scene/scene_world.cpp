@@ -135,6 +135,11 @@ Scene swap_object(const Scene& scene, const std::string& name) {
   if (it == scene.bodies.end()) {
     throw InputError(scene.source + ": no body named '" + name + "' to put in the object's place");
   }
+  if (!scene.demonstration.object_copies.empty()) {
+    throw InputError(scene.source + ": key 'demonstration.object_copies': the bodies it names "
+                     "copy the object, which cannot trade places with body '" + name +
+                     "' (attack.body); evaluate an attack on the object");
+  }
   if (!it->materials_file.empty()) {
     throw InputError(scene.source + ": body '" + name + "' has a materials file (" +
                      it->materials_file + "); only a body of the reference material can take "
@@ -171,6 +176,20 @@ Scene swap_object(const Scene& scene, const std::string& name) {
   return s;
 }
 
+Scene with_object_copies(const Scene& scene) {
+  Scene s = scene;
+  for (const std::string& name : scene.demonstration.object_copies) {
+    const auto it = std::find_if(s.bodies.begin(), s.bodies.end(),
+                                 [&](const BodySpec& b) { return b.name == name; });
+    if (it == s.bodies.end()) {
+      throw InputError(scene.source + ": key 'demonstration.object_copies': '" + name +
+                       "' names no body");
+    }
+    it->object_copy = true;
+  }
+  return s;
+}
+
 MaterialField SceneWorld::materials(const MaterialField& object, const std::string& source) const {
   validate_material_field(object, bodies.front().num_elements(), source);
   const int n = object.size(), m = fixed_materials.size();
@@ -183,6 +202,13 @@ MaterialField SceneWorld::materials(const MaterialField& object, const std::stri
   all.nu << object.nu, fixed_materials.nu;
   all.rho << object.rho, fixed_materials.rho;
   all.alpha << object.alpha, fixed_materials.alpha;
+  for (int i : copies) {
+    const Body& b = bodies.at(i);
+    all.Y.segment(b.element_begin, n) = object.Y;
+    all.nu.segment(b.element_begin, n) = object.nu;
+    all.rho.segment(b.element_begin, n) = object.rho;
+    all.alpha.segment(b.element_begin, n) = object.alpha;
+  }
   return all;
 }
 
@@ -201,13 +227,16 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
   std::vector<TetMesh> meshes{object_mesh};
   std::vector<MaterialField> fields;
   for (const BodySpec& spec : scene.bodies) {
-    TetMesh mesh = make_body_mesh(scene, spec);
+    if (spec.object_copy) w.copies.push_back(static_cast<int>(w.bodies.size()));
+    // A copy's elements get the object's materials in materials(); the reference's stand here.
+    TetMesh mesh = spec.object_copy ? make_copy_mesh(scene, spec, object_mesh)
+                                    : make_body_mesh(scene, spec);
     MaterialField field =
-        spec.materials_file.empty()
+        spec.materials_file.empty() || spec.object_copy
             ? MaterialField::uniform(mesh.num_tets(), scene.reference_Y, scene.reference_nu,
                                      scene.reference_rho)
             : read_materials(spec.materials_file, mesh.num_tets());
-    if (!spec.materials_file.empty()) {
+    if (!spec.materials_file.empty() && !spec.object_copy) {
       validate_material_field(field, mesh.num_tets(), spec.materials_file);
       // Its centre of mass under its own materials at its position, as for the object.
       const Eigen::Vector3d c = compute_moments(mesh, field.effective_density()).centre_of_mass();

@@ -175,6 +175,11 @@ struct Evaluation {
   /// `stands`. Empty otherwise.
   std::vector<DemonstrationRun> demonstration_runs;
   std::vector<BodyShape> body_shapes;
+  /// Every body's moments (the object, then scene.bodies) in the deformable reference and
+  /// adversarial runs, from each run's own stacked mesh and materials: a body of
+  /// demonstration.object_copies has that run's object's mass (and its inertia, turned to the
+  /// body's pose); the others keep theirs.
+  std::vector<Moments> reference_body_moments, adversarial_body_moments;
   /// The adversarial object as evaluated (placed at the scene's pose), for its pictures.
   TetMesh adversarial_mesh;
   MaterialField adversarial_materials;
@@ -187,7 +192,9 @@ struct Evaluation {
 /// rbaa::InputError if the adversarial object's outer surface is not the reference's or its
 /// materials do not fit its mesh. In a scene with a demonstration block the adversarial object
 /// may come placed at its attack config's pose (the same shape, translated): it is first moved
-/// by the difference of the two bounding boxes' centres.
+/// by the difference of the two bounding boxes' centres. The bodies of
+/// demonstration.object_copies are copies of each run's object (with_object_copies): the
+/// reference's, the adversarial's and the soft control's, as deformable bodies and as twins.
 Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,
                     const TetMesh& adversarial_mesh, const MaterialField& adversarial_materials,
                     const EvaluationOptions& options = {});

@@ -72,6 +72,10 @@ struct BodySpec {
   /// reference material.
   std::string materials_file;
   DriveSpec driven;  ///< its driven vertices (bodies[i].driven), if any
+  /// A copy of the run's object (demonstration.object_copies, set by with_object_copies in
+  /// scene_world.hpp): make_world gives it the object's placed mesh, turned and moved to this
+  /// body's pose, and the object's materials; `mesh` is then unused.
+  bool object_copy = false;
 };
 
 /// What the attack minimises besides the moment term (the config's `objective` key; SPEC section
@@ -146,6 +150,11 @@ struct DemonstrationSpec {
   /// gravity first: free flight under gravity leaves that part unchanged, so a body flying on
   /// after its last contact keeps its figure (the 3D angle shrinks as both fall faster).
   bool figure_horizontal = false;
+  /// object_copies: names of bodies (bodies[i].name, each once, not the object) that are copies
+  /// of each run's object in `rbaa evaluate` and `rbaa export` (with_object_copies,
+  /// scene_world.hpp): the object's mesh as that run uses it and that run's materials, at the
+  /// body's own pose and velocities. Empty: every body is its own.
+  std::vector<std::string> object_copies;
 };
 
 /// Closed interval [lo, hi].

@@ -21,6 +21,14 @@ TetMesh make_scene_mesh(const Scene& scene);
 /// touches an obstacle.
 TetMesh make_body_mesh(const Scene& scene, const BodySpec& body);
 
+/// A copy of the object at a further body's pose (body.object_copy): the run's placed object
+/// mesh, turned from the object's rotation to the body's (R_body R_object^T about
+/// scene.position) and moved from scene.position to body.position, so that the object's centre
+/// of mass (at scene.position in every run: make_scene_mesh, place_centre_of_mass) lands at the
+/// body's position. Equal rotations only translate. Throws rbaa::InputError naming the body if it
+/// touches an obstacle.
+TetMesh make_copy_mesh(const Scene& scene, const BodySpec& body, const TetMesh& object_mesh);
+
 /// Translates a placed mesh so that its centre of mass under the per-element density (#T,
 /// kg/m^3, rho alpha: element masses rho alpha V) is at scene.position, which is what
 /// object.position means. make_scene_mesh puts the volume centroid there, which is the centre of

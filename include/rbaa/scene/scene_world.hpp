@@ -31,11 +31,15 @@ double scene_barrier_stiffness(const Scene& scene, const TetMesh& placed);
 struct SceneWorld {
   TetMesh mesh;              ///< the placed rest meshes, stacked
   std::vector<Body> bodies;  ///< ranges, centres (centres of mass) and initial motions
-  /// The materials of the elements after the object's (the further bodies'), fixed.
+  /// The materials of the elements after the object's (the further bodies'), fixed; a copy of
+  /// the object's elements hold the reference material here, replaced by materials().
   MaterialField fixed_materials;
+  /// The indices (into bodies) of the copies of the object (BodySpec::object_copy), ascending.
+  std::vector<int> copies;
 
-  /// The stacked field: the object's materials, then the fixed ones. Throws rbaa::InputError
-  /// naming `source` when `object` does not fit the object's mesh.
+  /// The stacked field: the object's materials, then the fixed ones, each copy of the object
+  /// with the object's. Throws rbaa::InputError naming `source` when `object` does not fit the
+  /// object's mesh.
   MaterialField materials(const MaterialField& object, const std::string& source = "materials") const;
   /// The object's rows of a stacked per-element vector (e.g. a material gradient).
   Eigen::VectorXd object_part(const Eigen::VectorXd& stacked) const {
@@ -49,8 +53,15 @@ struct SceneWorld {
 /// to its position. A body with a `driven` key gets its driven vertices (DriveSpec's selection on
 /// its placed mesh) and its drive, and starts with the drive's rigid motion. Throws
 /// rbaa::InputError naming both bodies when two start closer than d_hat, and naming the key when
-/// a drive's vertex list or count does not fit its body.
+/// a drive's vertex list or count does not fit its body. A body marked object_copy is instead
+/// the object's mesh at its pose (make_copy_mesh), its elements the object's materials.
 SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh);
+
+/// The scene with each body of demonstration.object_copies marked object_copy, so that make_world
+/// (and so run_simulation, polyfem_model) makes it a copy of whatever object and materials a run
+/// has: `rbaa evaluate` and `rbaa export` use it; the attack does not (its design is the
+/// object's elements alone). Without object_copies, the scene itself.
+Scene with_object_copies(const Scene& scene);
 
 /// The bodies a simulation of the world needs in its settings: all of them when there are several
 /// or one is driven, else none (the whole mesh is the one body).
@@ -63,7 +74,8 @@ std::vector<Body> simulated_bodies(const SceneWorld& world);
 /// object's speed and mass, and an attack on body i ran with it). What reads the object (the
 /// verbs that place an adversarial object, the rigid twin, the traces) then reads body `name`.
 /// `name` == scene.object_name returns the scene. Throws rbaa::InputError naming the scene when
-/// there is no such body, or when it has a materials file (the object's materials are a run's).
+/// there is no such body, when it has a materials file (the object's materials are a run's), or
+/// when the scene has demonstration.object_copies (copies of which object?).
 Scene swap_object(const Scene& scene, const std::string& name);
 
 /// The design space a scene's attack section asks for: ranges, fields, initial values, alpha0,
