@@ -162,14 +162,15 @@ std::vector<Moments> body_moments(const SimulationRun& run) {
 
 // The adversarial object must have the reference's outer surface: every reference boundary
 // vertex is an adversarial vertex, and the bounding boxes agree.
-void check_same_surface(const TetMesh& reference, const TetMesh& adversarial, const std::string& what) {
+// Why `adversarial` does not have `reference`'s surface, or "" when it does.
+std::string surface_mismatch(const TetMesh& reference, const TetMesh& adversarial, const std::string& what) {
   const double size = bounding_box_diagonal(reference);
   const double tol = 1e-9 * size;
   const Eigen::RowVector3d dlo = reference.V.colwise().minCoeff() - adversarial.V.colwise().minCoeff();
   const Eigen::RowVector3d dhi = reference.V.colwise().maxCoeff() - adversarial.V.colwise().maxCoeff();
   if (dlo.cwiseAbs().maxCoeff() > tol || dhi.cwiseAbs().maxCoeff() > tol) {
-    throw InputError(what + ": the adversarial object's bounding box differs from the scene's "
-                     "reference object (is it placed at the scene's initial pose, from the same scene?)");
+    return what + ": the adversarial object's bounding box differs from the scene's "
+           "reference object (is it placed at the scene's initial pose, from the same scene?)";
   }
   std::vector<std::array<double, 3>> adv(adversarial.num_vertices());
   for (int i = 0; i < adversarial.num_vertices(); ++i) adv[i] = {adversarial.V(i, 0), adversarial.V(i, 1), adversarial.V(i, 2)};
@@ -185,9 +186,14 @@ void check_same_surface(const TetMesh& reference, const TetMesh& adversarial, co
       std::ostringstream msg;
       msg << what << ": the adversarial object's surface is not the reference's (reference surface vertex "
           << v << " at (" << p[0] << ", " << p[1] << ", " << p[2] << ") is missing)";
-      throw InputError(msg.str());
+      return msg.str();
     }
   }
+  return "";
+}
+
+Eigen::RowVector3d box_middle(const TetMesh& mesh) {
+  return 0.5 * (mesh.V.colwise().minCoeff() + mesh.V.colwise().maxCoeff());
 }
 
 // The report's names of contacts: "mesh backboard" (the file's stem, else its index),
@@ -665,16 +671,33 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
   validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
                           "adversarial materials");
   TetMesh adversarial_moved = adversarial_as_given;
+  std::string mismatch;
   if (scene_in.demonstration.enabled) {
     // A demonstration starts the attack's object elsewhere (the ball from its release, not from
-    // just before the backboard): the same shape, translated. Rotations are not undone.
-    const Eigen::RowVector3d ref_mid =
-        0.5 * (reference_mesh.V.colwise().minCoeff() + reference_mesh.V.colwise().maxCoeff());
-    const Eigen::RowVector3d adv_mid = 0.5 * (adversarial_as_given.V.colwise().minCoeff() +
-                                              adversarial_as_given.V.colwise().maxCoeff());
-    adversarial_moved.V.rowwise() += ref_mid - adv_mid;
+    // just before the backboard): the same shape, translated, and, when the demonstration turns
+    // its object and the attack's did not (the cube stack's striker lands edge first; its cube was
+    // attacked face on), turned by the demonstration's rotation about its middle.
+    adversarial_moved.V.rowwise() += box_middle(reference_mesh) - box_middle(adversarial_as_given);
+    mismatch = surface_mismatch(reference_mesh, adversarial_moved, "adversarial mesh");
+    if (!mismatch.empty() && scene_in.rotation_angle_deg != 0) {
+      const Eigen::Matrix3d R =
+          Eigen::AngleAxisd(scene_in.rotation_angle_deg * M_PI / 180.0, scene_in.rotation_axis.normalized())
+              .toRotationMatrix();
+      TetMesh turned = adversarial_as_given;
+      const Eigen::RowVector3d middle = box_middle(adversarial_as_given);
+      turned.V = ((turned.V.rowwise() - middle) * R.transpose()).eval();
+      turned.V.rowwise() += box_middle(reference_mesh) - box_middle(turned);
+      if (surface_mismatch(reference_mesh, turned, "adversarial mesh").empty()) {
+        adversarial_moved = std::move(turned);
+        mismatch.clear();
+      } else {
+        mismatch += " (also tried turned by the demonstration's rotation)";
+      }
+    }
+  } else {
+    mismatch = surface_mismatch(reference_mesh, adversarial_moved, "adversarial mesh");
   }
-  check_same_surface(reference_mesh, adversarial_moved, "adversarial mesh");
+  if (!mismatch.empty()) throw InputError(mismatch);
   // object.position is the centre of mass: an object whose materials put it elsewhere than the
   // reference's centroid starts translated (an attack's object has the reference's moments, so
   // the translation is round-off).

@@ -16,7 +16,9 @@
 #include <string>
 #include <utility>
 
+#include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
+#include "rbaa/geometry/moments.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
 
@@ -141,6 +143,73 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
     EXPECT_EQ(friction[0]["plane"], 0);
     EXPECT_DOUBLE_EQ(friction[0]["friction"].get<double>(), mu);
     std::filesystem::remove_all(dir);
+  }
+}
+
+}  // namespace
+}  // namespace rbaa
+
+namespace rbaa {
+namespace {
+
+// A demonstration that turns its object (the cube stack's striker, 45 deg about x) takes an
+// attack's object that was designed unturned (its attack config's pose): evaluate turns it by the
+// demonstration's rotation about its middle and moves it into place, materials and all. An object
+// that matches neither way is still refused.
+TEST(EvaluationDemonstration, AnUnturnedAttackObjectIsTurnedIntoTheDemonstrationsPose) {
+  const std::string cube =
+      "mesh: {shape: cube, side: 0.1, target_tets: 200}\n"
+      "time: {step: 0.01, duration: 0.05}\n"
+      "evaluation: {time_step: 0.01, duration: 0.05}\n"
+      "contact: {kappa: 1.0e5}\n"
+      "gravity: off\n";
+  const Scene attack = parse_scene(cube + "object: {position: [0, 0, 1], velocity: [0, 0, -1]}\n",
+                                   "attack.yaml", "");
+  const Scene demo = parse_scene(cube +
+                                     "object: {position: [2, 0, 1], velocity: [0, 0, -1], "
+                                     "rotation: {axis: [1, 0, 0], angle_deg: 45}}\n"
+                                     "demonstration: {figure: angle}\n",
+                                 "demo.yaml", "");
+  const TetMesh attacked = make_scene_mesh(attack);
+  const TetMesh reference = make_scene_mesh(demo);
+  // Heavier elements on the +y side, so that turning the materials with the mesh matters.
+  MaterialField materials = MaterialField::uniform(attacked.num_tets(), 5e9, 0.3, 1000, 1.0);
+  for (int e = 0; e < attacked.num_tets(); ++e) {
+    double y = 0;
+    for (int k = 0; k < 4; ++k) y += attacked.V(attacked.T(e, k), 1) / 4;
+    if (y > 0) materials.rho[e] = 3000;
+  }
+  const Evaluation ev = evaluate(demo, reference, attacked, materials);
+  // Where each element's vertices went: the demonstration's 45 deg turn about the cube's middle.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::RowVector3d from = 0.5 * (attacked.V.colwise().minCoeff() + attacked.V.colwise().maxCoeff());
+  // Its middle: the reference's, then moved so that its centre of mass (heavier on one side) sits
+  // at object.position as the reference's does.
+  const Eigen::RowVector3d to =
+      0.5 * (ev.adversarial_mesh.V.colwise().minCoeff() + ev.adversarial_mesh.V.colwise().maxCoeff());
+  ASSERT_EQ(ev.adversarial_mesh.num_vertices(), attacked.num_vertices());
+  double worst = 0;
+  for (int i = 0; i < attacked.num_vertices(); ++i) {
+    const Eigen::RowVector3d expected = (attacked.V.row(i) - from) * R.transpose() + to;
+    worst = std::max(worst, (ev.adversarial_mesh.V.row(i) - expected).norm());
+  }
+  EXPECT_LT(worst, 1e-9);
+  // The heavy half now lies towards +y +z (turned 45 deg about x): the centre of mass relative to
+  // the middle is turned with it.
+  const Eigen::Vector3d c_attack = compute_moments(attacked, materials.effective_density()).centre_of_mass() - from.transpose();
+  const Eigen::Vector3d c_demo = ev.adversarial_moments.centre_of_mass() - to.transpose();
+  EXPECT_GT(c_attack.y(), 1e-3);
+  EXPECT_LT((c_demo - R * c_attack).norm(), 1e-9);
+  EXPECT_LT((ev.adversarial_moments.centre_of_mass() - demo.position).norm(), 1e-12);
+
+  // A shape that is neither the reference's as it is nor turned: refused, saying both were tried.
+  TetMesh stretched = attacked;
+  stretched.V.col(0) *= 1.1;
+  try {
+    evaluate(demo, reference, stretched, materials);
+    FAIL() << "a different shape was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("also tried turned"), std::string::npos) << e.what();
   }
 }
 
