@@ -845,6 +845,12 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
     perturbed.mass *= 1 + ev.rigid_perturbation;
     perturbed.principal_moments *= 1 + ev.rigid_perturbation;
     perturbed.centre.x() += (adv_mass.centre - ref_mass.centre).norm();
+    // And its principal axes turned by as much as the adversarial's are turned from them (a nearly
+    // round body's axes follow small differences of its moments a long way), about x.
+    const Eigen::AngleAxisd axes_turn(adv_mass.principal_axes * ref_mass.principal_axes.transpose());
+    ev.rigid_axes_turn = axes_turn.angle();
+    perturbed.principal_axes = Eigen::AngleAxisd(ev.rigid_axes_turn, Eigen::Vector3d::UnitX()) *
+                               ref_mass.principal_axes;
     const auto runs = simulate_rigid_bodies(perturbed, ref_shape, scene, chosen.rigid, ev.duration, further);
     ev.rigid_sensitivity = compare_runs(
         ev.rigid_reference, trace_from_rigid("rigid reference, inputs perturbed", runs.at(traced), 0));

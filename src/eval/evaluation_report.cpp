@@ -218,6 +218,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"time_steps_tried", search},
       {"rigid_identical", ev.rigid_vs_rigid.max_position_gap <= 1e-9},
       {"rigid_sensitivity", {{"perturbation", ev.rigid_perturbation},
+                             {"axes_turn_rad", ev.rigid_axes_turn},
                              {"vs_rigid_reference", comparison_json(ev.rigid_sensitivity)}}},
       {"timing_s", timing},
       {"files", files},
@@ -337,7 +338,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << " The rigid simulator's own sensitivity: the rigid reference with its mass and principal "
            "moments scaled by 1 + "
         << fmt(ev.rigid_perturbation) << " (the largest relative difference between the two objects' "
-           "rigid inputs) and its centre of mass moved as far as theirs differ strays up to "
+           "rigid inputs), its centre of mass moved as far as theirs differ and its principal axes "
+           "turned by "
+        << fmt(ev.rigid_axes_turn) << " rad (as theirs are) strays up to "
         << fmt(ev.rigid_sensitivity.max_position_gap) << " m from itself"
         << (ev.rigid_vs_rigid.max_position_gap > 1e-9 &&
                     ev.rigid_vs_rigid.max_position_gap <= 10 * ev.rigid_sensitivity.max_position_gap

@@ -140,12 +140,16 @@ struct Evaluation {
   RunComparison rigid_vs_rigid, deformable_vs_deformable, deformable_vs_rigid;
   /// The rigid simulator's own sensitivity: the rigid reference run again with its mass and
   /// principal moments scaled by 1 + rigid_perturbation and its centre of mass moved along x by
-  /// as much as the adversarial's lies from the reference's, the largest relative difference between
+  /// as much as the adversarial's lies from the reference's and its principal axes turned by
+  /// rigid_axes_turn; rigid_perturbation is the largest relative difference between
   /// the adversarial's and the reference's rigid inputs (mass, centre over the radius of
   /// gyration, principal moments; at least 1e-15), against the rigid reference. Where obstacle
   /// meshes switch contacts discontinuously Bullet amplifies round-off in its inputs; when
   /// rigid_vs_rigid is no larger than this, the twins' gap is that amplification, not the objects.
   double rigid_perturbation = 0;
+  /// The angle between the two objects' principal axes (rad), by which the sensitivity run also
+  /// turns the reference twin's axes.
+  double rigid_axes_turn = 0;
   RunComparison rigid_sensitivity;
   /// The deformable adversarial object against the rigid reference: what a rigid-body simulator
   /// predicts for the object against what happens to it.
