@@ -670,33 +670,17 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
   }
   validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
                           "adversarial materials");
-  TetMesh adversarial_moved = adversarial_as_given;
-  std::string mismatch;
+  // A demonstration starts the attack's object elsewhere (the ball from its release, not from just
+  // before the backboard): the same shape, translated, and turned by the demonstration's rotation
+  // when it turns its object and the attack's did not (the cube stack's striker lands edge first;
+  // its cube was attacked face on).
+  TetMesh adversarial_moved = scene_in.demonstration.enabled
+                                  ? turn_into_scene_pose(scene_in, reference_mesh, adversarial_as_given)
+                                  : adversarial_as_given;
   if (scene_in.demonstration.enabled) {
-    // A demonstration starts the attack's object elsewhere (the ball from its release, not from
-    // just before the backboard): the same shape, translated, and, when the demonstration turns
-    // its object and the attack's did not (the cube stack's striker lands edge first; its cube was
-    // attacked face on), turned by the demonstration's rotation about its middle.
-    adversarial_moved.V.rowwise() += box_middle(reference_mesh) - box_middle(adversarial_as_given);
-    mismatch = surface_mismatch(reference_mesh, adversarial_moved, "adversarial mesh");
-    if (!mismatch.empty() && scene_in.rotation_angle_deg != 0) {
-      const Eigen::Matrix3d R =
-          Eigen::AngleAxisd(scene_in.rotation_angle_deg * M_PI / 180.0, scene_in.rotation_axis.normalized())
-              .toRotationMatrix();
-      TetMesh turned = adversarial_as_given;
-      const Eigen::RowVector3d middle = box_middle(adversarial_as_given);
-      turned.V = ((turned.V.rowwise() - middle) * R.transpose()).eval();
-      turned.V.rowwise() += box_middle(reference_mesh) - box_middle(turned);
-      if (surface_mismatch(reference_mesh, turned, "adversarial mesh").empty()) {
-        adversarial_moved = std::move(turned);
-        mismatch.clear();
-      } else {
-        mismatch += " (also tried turned by the demonstration's rotation)";
-      }
-    }
-  } else {
-    mismatch = surface_mismatch(reference_mesh, adversarial_moved, "adversarial mesh");
+    adversarial_moved.V.rowwise() += box_middle(reference_mesh) - box_middle(adversarial_moved);
   }
+  const std::string mismatch = surface_mismatch(reference_mesh, adversarial_moved, "adversarial mesh");
   if (!mismatch.empty()) throw InputError(mismatch);
   // object.position is the centre of mass: an object whose materials put it elsewhere than the
   // reference's centroid starts translated (an attack's object has the reference's moments, so

@@ -72,6 +72,8 @@ ExportObject adversarial_export_object(const Scene& scene, const std::string& pa
   }
   o.removed_vertices = remove_unreferenced_vertices(o.mesh);
   validate_material_field(o.materials, n, path);
+  // Turned into the scene's pose if it was designed unturned (as rbaa evaluate does).
+  if (scene.rotation_angle_deg != 0) o.mesh = turn_into_scene_pose(scene, make_scene_mesh(scene), o.mesh);
   o.mesh = place_centre_of_mass(scene, std::move(o.mesh), o.materials.effective_density(), path);
   return o;
 }

@@ -109,6 +109,23 @@ TetMesh make_copy_mesh(const Scene& scene, const BodySpec& body, const TetMesh& 
   return mesh;
 }
 
+TetMesh turn_into_scene_pose(const Scene& scene, const TetMesh& reference, const TetMesh& given) {
+  if (scene.rotation_angle_deg == 0 || given.num_vertices() == 0) return given;
+  auto extent = [](const TetMesh& m) -> Eigen::RowVector3d {
+    return m.V.colwise().maxCoeff() - m.V.colwise().minCoeff();
+  };
+  const Eigen::RowVector3d want = extent(reference);
+  const double tol = 1e-9 * want.norm();
+  if ((extent(given) - want).cwiseAbs().maxCoeff() <= tol) return given;
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(scene.rotation_angle_deg * M_PI / 180.0, scene.rotation_axis.normalized())
+          .toRotationMatrix();
+  const Eigen::RowVector3d middle = 0.5 * (given.V.colwise().minCoeff() + given.V.colwise().maxCoeff());
+  TetMesh turned = given;
+  turned.V = ((given.V.rowwise() - middle) * R.transpose()).rowwise() + middle;
+  return (extent(turned) - want).cwiseAbs().maxCoeff() <= tol ? turned : given;
+}
+
 TetMesh place_centre_of_mass(const Scene& scene, TetMesh mesh, const Eigen::VectorXd& density,
                              const std::string& source) {
   if (density.size() != mesh.num_tets()) {

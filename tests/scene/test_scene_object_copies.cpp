@@ -204,5 +204,27 @@ TEST(SceneObjectCopies, ThePolyfemExportWritesTheCopiesWithTheObjectsMaterials) 
   EXPECT_TRUE((model.E.segment(low.element_begin, low.num_elements()).array() == s.reference_Y).all());
 }
 
+// An attack's object designed unturned is turned into a scene that turns its object (evaluate
+// and the PolyFEM export call this); one already turned, or a scene that turns nothing, is left
+// as it is, bit for bit.
+TEST(ScenePose, AnUnturnedAttackObjectIsTurnedIntoATurnedScenesPose) {
+  const std::string cube = "mesh: {shape: cube, side: 0.1, target_tets: 200}\ngravity: off\n";
+  const Scene plain = parse_scene(cube + "object: {position: [0, 0, 1]}\n", "plain.yaml", "");
+  const Scene turned = parse_scene(
+      cube + "object: {position: [0, 0, 1], rotation: {axis: [1, 0, 0], angle_deg: 45}}\n",
+      "turned.yaml", "");
+  const TetMesh unturned_mesh = make_scene_mesh(plain);
+  const TetMesh turned_mesh = make_scene_mesh(turned);
+  const TetMesh t = turn_into_scene_pose(turned, turned_mesh, unturned_mesh);
+  // Both turned about the same middle (the cube's centroid is its middle): the same vertices.
+  EXPECT_LT((t.V - turned_mesh.V).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_TRUE(turn_into_scene_pose(turned, turned_mesh, turned_mesh).V == turned_mesh.V);
+  EXPECT_TRUE(turn_into_scene_pose(plain, unturned_mesh, unturned_mesh).V == unturned_mesh.V);
+  // A shape that matches neither way is returned unchanged (the caller's surface check refuses it).
+  TetMesh stretched = unturned_mesh;
+  stretched.V.col(0) *= 1.1;
+  EXPECT_TRUE(turn_into_scene_pose(turned, turned_mesh, stretched).V == stretched.V);
+}
+
 }  // namespace
 }  // namespace rbaa

@@ -37,6 +37,14 @@ TetMesh make_copy_mesh(const Scene& scene, const BodySpec& body, const TetMesh& 
 /// the radius of gyration of the position (an attack's moment-matched object), returns the mesh
 /// unchanged, bit for bit.
 /// Throws rbaa::InputError naming `source` if the moved object touches an obstacle.
+/// An attack's object as its file gives it, turned into `scene`'s pose when its attack config did
+/// not turn it and `scene` does (a demonstration that starts its object turned, such as the cube
+/// stack's striker): when `scene` turns its object and the given mesh's bounding box differs in
+/// size (beyond 1e-9 of the reference's diagonal) from `reference`'s (the scene's placed reference
+/// mesh) but matches it once turned by scene's rotation about its middle, the turned mesh; else
+/// the mesh unchanged. Translations are left to the caller (place_centre_of_mass).
+TetMesh turn_into_scene_pose(const Scene& scene, const TetMesh& reference, const TetMesh& given);
+
 TetMesh place_centre_of_mass(const Scene& scene, TetMesh mesh, const Eigen::VectorXd& density,
                              const std::string& source);
 
