@@ -50,15 +50,20 @@ std::string ball_on_floor_yaml(bool mesh_floor, int contact_substeps = 0) {
 // -v_z(T) / v_z(0): the rebound off the floor of a run without gravity.
 double floor_rebound(const RunTrace& t) { return -t.velocity.back().z() / t.velocity.front().z(); }
 
-TEST(ContactRestitution, TheMeshFloorsFittedRestitutionMakesTheTwinReboundAsTheBaseline) {
-  const Scene scene = parse_scene(ball_on_floor_yaml(true), "ball_on_mesh.yaml", dir());
+// The ball of ball_on_floor_yaml evaluated against itself at the scene's step, no soft control.
+Evaluation evaluate_uniform_ball(const Scene& scene) {
   const TetMesh mesh = make_scene_mesh(scene);
   const MaterialField uniform = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0);
   EvaluationOptions options;
   options.duration = 0.12;
   options.time_step = scene.time_step;
   options.soft_control = false;
-  const Evaluation ev = evaluate(scene, mesh, mesh, uniform, options);
+  return evaluate(scene, mesh, mesh, uniform, options);
+}
+
+TEST(ContactRestitution, TheMeshFloorsFittedRestitutionMakesTheTwinReboundAsTheBaseline) {
+  const Scene scene = parse_scene(ball_on_floor_yaml(true), "ball_on_mesh.yaml", dir());
+  const Evaluation ev = evaluate_uniform_ball(scene);
 
   ASSERT_EQ(ev.calibrations.size(), 1u);
   const RestitutionCalibration& c = ev.calibrations[0];
@@ -100,13 +105,7 @@ TEST(ContactRestitution, TheMeshFloorsFittedRestitutionMakesTheTwinReboundAsTheB
 // sub-steps of the same index (found on the hoop: the board's rebound read -0.886, "not fitted").
 TEST(ContactRestitution, AMeshFloorsRestitutionIsFittedWithContactResolvingSteps) {
   const Scene scene = parse_scene(ball_on_floor_yaml(true, 64), "ball_on_mesh.yaml", dir());
-  const TetMesh mesh = make_scene_mesh(scene);
-  const MaterialField uniform = MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0);
-  EvaluationOptions options;
-  options.duration = 0.12;
-  options.time_step = scene.time_step;
-  options.soft_control = false;
-  const Evaluation ev = evaluate(scene, mesh, mesh, uniform, options);
+  const Evaluation ev = evaluate_uniform_ball(scene);
   ASSERT_EQ(ev.calibrations.size(), 1u);
   const RestitutionCalibration& c = ev.calibrations[0];
   const double deformable = floor_rebound(ev.deformable_reference);
