@@ -151,6 +151,8 @@ namespace {
 // H += w D^T H9 D, D = dvec(F)/dx the 9x12 map of dF = sum_a dx_a b_a^T (vec column-major:
 // F(i, j) at i + 3 j; local dof 3 a + i), into the packed lower 12x12 block. With B(j, a) = (b_a)_j:
 // H12(3a+i, 3b+k) = sum_{j,l} B(j, a) B(l, b) H9(i+3j, k+3l), in two passes (~560 products).
+// With kAssign the block is H = w D^T H9 D instead (SparseHessian::element_block_for_writing).
+template <bool kAssign>
 void add_pulled_back(const Eigen::Matrix<double, 9, 9>& H9, const Eigen::Matrix<double, 3, 4>& B,
                      double w, double* H) {
   Eigen::Matrix<double, 9, 12> T;  // T(r, 3b+k) = sum_l H9(r, k+3l) B(l, b)
@@ -163,7 +165,9 @@ void add_pulled_back(const Eigen::Matrix<double, 9, 9>& H9, const Eigen::Matrix<
   for (int c = 0; c < 12; ++c) {
     for (int r = c; r < 12; ++r) {
       const int a = r / 3, i = r % 3;
-      H[p++] += w * (B(0, a) * T(i, c) + B(1, a) * T(i + 3, c) + B(2, a) * T(i + 6, c));
+      const double h = w * (B(0, a) * T(i, c) + B(1, a) * T(i + 3, c) + B(2, a) * T(i + 6, c));
+      H[p] = kAssign ? h : H[p] + h;
+      ++p;
     }
   }
 }
@@ -180,7 +184,8 @@ void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKin
 #pragma omp parallel for schedule(static) reduction(|| : clamped) if (nt > kParallelElements)
   for (int e = 0; e < nt; ++e) {
     const Eigen::Matrix3d F = deformation_gradient(q, e);
-    double* H = hessian.element_block(e);
+    double* H = nullptr;
+    const bool assign = hessian.element_block_for_writing(e, H);
     const double w = scale * weight_[e];
     Eigen::Matrix<double, 9, 9> H9;
     if (project) {
@@ -195,7 +200,11 @@ void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKin
     } else {
       H9 = snh::hessian(F, mu_[e], lambda_[e]);
     }
-    add_pulled_back(H9, B_[e], w, H);
+    if (assign) {
+      add_pulled_back<true>(H9, B_[e], w, H);
+    } else {
+      add_pulled_back<false>(H9, B_[e], w, H);
+    }
   }
   if (clamped) hessian.mark_projection_active();
 }

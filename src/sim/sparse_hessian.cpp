@@ -89,6 +89,7 @@ SparseHessian::SparseHessian(const Tets& tets, int num_vertices)
   }
 
   element_values_.assign(std::size_t(num_elements_) * kPacked, 0.0);
+  element_generation_.assign(num_elements_, generation_);  // zero, as filled
   vertex_values_.assign(num_vertices, Eigen::Matrix3d::Zero());
   vertex_touched_.assign(num_vertices, 0);
   direct_ = Eigen::VectorXd::Zero(nnz);
@@ -151,17 +152,13 @@ void SparseHessian::rebuild_pattern() {
 }
 
 void SparseHessian::set_zero() {
-  const std::ptrdiff_t size = static_cast<std::ptrdiff_t>(element_values_.size());
-  double* data = element_values_.data();
-#pragma omp parallel for schedule(static) if (size > kParallelEntries)
-  for (std::ptrdiff_t i = 0; i < size; ++i) data[i] = 0.0;
+  ++generation_;  // the element blocks: cleared as they are handed out or in assemble()
   for (int v : touched_vertices_) {
     vertex_values_[v].setZero();
     vertex_touched_[v] = 0;
   }
   touched_vertices_.clear();
-  if (direct_used_) direct_.setZero();
-  direct_used_ = false;
+  direct_used_ = false;  // direct_ is stale now: zeroed or overwritten by its next writer
   extra_.clear();
   projection_active_ = false;
 }
@@ -188,11 +185,11 @@ void SparseHessian::add_vertex_pair_block(int a, int b, const Eigen::Matrix3d& B
     if (!inserted) at->second += L;
     return;
   }
+  use_direct();
   for (int j = 0; j < 3; ++j) {
     const int k = base_entry(3 * r, 3 * c + j);
     for (int i = 0; i < 3; ++i) direct_[k + i] += L(i, j);  // rows 3r, 3r+1, 3r+2 are adjacent
   }
-  direct_used_ = true;
 }
 
 void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& A) {
@@ -203,9 +200,14 @@ void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& 
   const bool base = A.nonZeros() == static_cast<Eigen::Index>(base_inner_.size()) &&
                     std::equal(base_outer_.begin(), base_outer_.end(), A.outerIndexPtr()) &&
                     std::equal(base_inner_.begin(), base_inner_.end(), A.innerIndexPtr());
-  if (base) {
-    direct_ += scale * Eigen::Map<const Eigen::VectorXd>(A.valuePtr(), A.nonZeros());
+  const Eigen::Map<const Eigen::VectorXd> values(A.valuePtr(), A.nonZeros());
+  if (base && !direct_used_) {
+    direct_.noalias() = scale * values;  // the first term: 0 + x = x, without zeroing first
+    direct_used_ = true;
+  } else if (base) {
+    direct_ += scale * values;
   } else {
+    use_direct();
     for (int col = 0; col < A.cols(); ++col) {
       for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it) {
         const int row = static_cast<int>(it.row());
@@ -220,6 +222,11 @@ void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& 
       }
     }
   }
+}
+
+void SparseHessian::use_direct() {
+  if (direct_used_) return;
+  direct_.setZero();
   direct_used_ = true;
 }
 
@@ -235,6 +242,11 @@ const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
     }
   }
   if (!same) rebuild_pattern();
+  // Blocks nobody touched in this assembly still hold an older one's values.
+  for (int e = 0; e < num_elements_; ++e) {
+    if (element_generation_[e] != generation_) element_block(e);
+  }
+  use_direct();  // zero when no form added to it
   const int nnz = static_cast<int>(base_inner_.size());
   double* values = matrix_.valuePtr();
   const double* elem = element_values_.data();
