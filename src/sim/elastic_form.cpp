@@ -1,6 +1,7 @@
 #include "rbaa/sim/elastic_form.hpp"
 
 #include <Eigen/Dense>
+#include <omp.h>
 
 #include <cmath>
 
@@ -181,11 +182,11 @@ void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKin
   // The rotation modes of an unstrained element sit at +-1e-16 mu: clamping those changes nothing
   // and does not count as a projection (the adjoint may then reuse Newton's factor).
   bool clamped = false;
-#pragma omp parallel for schedule(static) reduction(|| : clamped) if (nt > kParallelElements)
-  for (int e = 0; e < nt; ++e) {
+  // Element e's block, H = w D^T H9 D (assign) or H += it; true when the projection removed a
+  // mode.
+  auto element = [&](int e, bool assign, double* H) {
+    bool removed = false;
     const Eigen::Matrix3d F = deformation_gradient(q, e);
-    double* H = nullptr;
-    const bool assign = hessian.element_block_for_writing(e, H);
     const double w = scale * weight_[e];
     Eigen::Matrix<double, 9, 9> H9;
     if (project) {
@@ -194,9 +195,7 @@ void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKin
       // thresholds (-1e-14 and -1e-12): modes in between were removed unflagged, Newton labelled
       // such factors exact, and the adjoint reusing them disagreed with the tangent by 1e-7 on the
       // cube once a rigid predictor let contact steps converge on their first, projected, Hessian.
-      if (snh::projected_hessian(F, mu_[e], lambda_[e], H9) < 0) {
-        clamped = true;
-      }
+      removed = snh::projected_hessian(F, mu_[e], lambda_[e], H9) < 0;
     } else {
       H9 = snh::hessian(F, mu_[e], lambda_[e]);
     }
@@ -204,6 +203,26 @@ void ElasticForm::add_hessian(const Eigen::VectorXd& q, double scale, HessianKin
       add_pulled_back<true>(H9, B_[e], w, H);
     } else {
       add_pulled_back<false>(H9, B_[e], w, H);
+    }
+    return removed;
+  };
+#pragma omp parallel reduction(|| : clamped) if (nt > kParallelElements)
+  {
+    if (omp_get_num_threads() == 1 && hessian.begin_elements_in_order()) {
+      // One thread: each block goes from the stack straight into the matrix's sums (same
+      // matrix; the 6 MB element buffer is neither written nor gathered).
+      double H[SparseHessian::kPacked];
+      for (int e = 0; e < nt; ++e) {
+        if (element(e, true, H)) clamped = true;
+        hessian.add_element_in_order(e, H);
+      }
+    } else {
+#pragma omp for schedule(static)
+      for (int e = 0; e < nt; ++e) {
+        double* H = nullptr;
+        const bool assign = hessian.element_block_for_writing(e, H);
+        if (element(e, assign, H)) clamped = true;
+      }
     }
   }
   if (clamped) hessian.mark_projection_active();

@@ -74,6 +74,7 @@ SparseHessian::SparseHessian(const Tets& tets, int num_vertices)
       }
     }
   }
+  element_target_ = target;
   source_start_.assign(nnz + 1, 0);
   for (int k = 0; k < nnz; ++k) source_start_[k + 1] = source_start_[k] + count[k + 1];
   sources_.resize(source_start_[nnz]);
@@ -152,6 +153,7 @@ void SparseHessian::rebuild_pattern() {
 }
 
 void SparseHessian::set_zero() {
+  in_order_next_ = -1;
   ++generation_;  // the element blocks: cleared as they are handed out or in assemble()
   for (int v : touched_vertices_) {
     vertex_values_[v].setZero();
@@ -224,6 +226,32 @@ void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& 
   }
 }
 
+bool SparseHessian::begin_elements_in_order() {
+  if (in_order_next_ >= 0) return false;
+  for (int e = 0; e < num_elements_; ++e) {
+    if (element_generation_[e] == generation_) return false;
+  }
+  if (direct_used_) {
+    in_order_sum_ = direct_;
+  } else {
+    in_order_sum_.setZero(direct_.size());
+  }
+  direct_used_ = false;  // direct values added from now on are summed after the elements
+  in_order_next_ = 0;
+  return true;
+}
+
+void SparseHessian::add_element_in_order(int e, const double* packed) {
+  if (e != in_order_next_ || e >= num_elements_) {
+    throw std::logic_error("SparseHessian: element " + std::to_string(e) +
+                           " handed out of order (expected " + std::to_string(in_order_next_) + ")");
+  }
+  const int* target = element_target_.data() + std::size_t(e) * kPacked;
+  double* sum = in_order_sum_.data();
+  for (int p = 0; p < kPacked; ++p) sum[target[p]] += packed[p];
+  ++in_order_next_;
+}
+
 void SparseHessian::use_direct() {
   if (direct_used_) return;
   direct_.setZero();
@@ -242,20 +270,34 @@ const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
     }
   }
   if (!same) rebuild_pattern();
-  // Blocks nobody touched in this assembly still hold an older one's values.
-  for (int e = 0; e < num_elements_; ++e) {
-    if (element_generation_[e] != generation_) element_block(e);
-  }
-  use_direct();  // zero when no form added to it
   const int nnz = static_cast<int>(base_inner_.size());
   double* values = matrix_.valuePtr();
+  const int* position = base_position_.data();
+  const bool in_order = in_order_next_ >= 0;
+  if (in_order && in_order_next_ != num_elements_) {
+    throw std::logic_error("SparseHessian: assemble() after " + std::to_string(in_order_next_) +
+                           " of " + std::to_string(num_elements_) + " elements in order");
+  }
+  bool buffered = !in_order;  // element blocks to gather
+  for (int e = 0; e < num_elements_ && !buffered; ++e) buffered = element_generation_[e] == generation_;
+  if (buffered) {
+    // Blocks nobody touched in this assembly still hold an older one's values.
+    for (int e = 0; e < num_elements_; ++e) {
+      if (element_generation_[e] != generation_) element_block(e);
+    }
+  }
+  if (!in_order) use_direct();  // zero when no form added to it
   const double* elem = element_values_.data();
   const double* direct = direct_.data();
-  const int* position = base_position_.data();
+  const double* first = in_order ? in_order_sum_.data() : direct;
+  const bool late_direct = in_order && direct_used_;
 #pragma omp parallel for schedule(static) if (nnz > kParallelEntries)
   for (int k = 0; k < nnz; ++k) {
-    double sum = direct[k];
-    for (int s = source_start_[k]; s < source_start_[k + 1]; ++s) sum += elem[sources_[s]];
+    double sum = first[k];
+    if (late_direct) sum += direct[k];
+    if (buffered) {
+      for (int s = source_start_[k]; s < source_start_[k + 1]; ++s) sum += elem[sources_[s]];
+    }
     values[position[k]] = sum;
   }
   std::vector<int> sorted = touched_vertices_;

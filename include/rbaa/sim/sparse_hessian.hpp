@@ -69,6 +69,18 @@ class SparseHessian {
   /// Vertex v's 3x3 diagonal block (full; its lower triangle is used); callers add to it. Not
   /// thread-safe across calls for different vertices (contact forms touch few vertices).
   Eigen::Matrix3d& vertex_block(int v);
+  /// The buffer-free alternative to element_block() for a form that writes every element's block
+  /// whole (the elasticity): when begin_elements_in_order() returns true, the caller hands every
+  /// element's packed block to add_element_in_order() in ascending element order (0 .. #T - 1),
+  /// and each is summed straight into the matrix in the order assemble() sums the buffers (the
+  /// direct values, then the elements in order): the same matrix, bit for bit, without writing,
+  /// zeroing and gathering the ~6 MB of element buffers on every assembly. The direct values
+  /// (add_matrix, add_vertex_pair_block) should all be in before (IncrementalPotential runs
+  /// element-block forms last): one added later is summed after the elements instead (the same
+  /// matrix up to round-off). Returns false (use element_block) when an element block was
+  /// already written in this assembly. Not thread-safe.
+  bool begin_elements_in_order();
+  void add_element_in_order(int e, const double* packed);
   /// Adds B to the block (row vertex a, column vertex b) and B^T to (b, a) for a != b (an extra
   /// block when a and b share no tet); a == b adds (B + B^T) / 2 to the diagonal block. Not
   /// thread-safe.
@@ -116,6 +128,9 @@ class SparseHessian {
   std::vector<int> sources_;            // flat indices into element_values_
   std::vector<int> diagonal_entries_;   // 6 per vertex: base nnz of its diagonal block's lower part
   std::vector<double> element_values_;  // #T * kPacked
+  std::vector<int> element_target_;     // #T * kPacked: base nnz of each packed element entry
+  Eigen::VectorXd in_order_sum_;        // base nnz: the direct values plus the elements so far
+  int in_order_next_ = -1;              // next element in order; -1: no in-order pass yet
   // An element block holds this assembly's values iff its generation is generation_ (set_zero()
   // starts a new one); older blocks read as zero.
   std::uint64_t generation_ = 1;
