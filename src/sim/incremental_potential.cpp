@@ -86,9 +86,15 @@ void IncrementalPotential::set_fixed_dofs(std::vector<int> dofs) {
 const Eigen::SparseMatrix<double>& IncrementalPotential::hessian(const Eigen::VectorXd& q,
                                                                  HessianKind kind) {
   hessian_.set_zero();
-  for (const Term& t : terms_) {
-    const ScopeTimer timer(t.seconds);
-    t.form->add_hessian(q, t.weight, kind, hessian_);
+  // Forms writing element blocks last: the in-order element sums (SparseHessian::
+  // begin_elements_in_order) start from the other forms' direct values. Only the order of
+  // independent buffers changes: the matrix is the same.
+  for (const bool elements : {false, true}) {
+    for (const Term& t : terms_) {
+      if (t.form->writes_element_blocks() != elements) continue;
+      const ScopeTimer timer(t.seconds);
+      t.form->add_hessian(q, t.weight, kind, hessian_);
+    }
   }
   hessian_.assemble();
   if (!fixed_mask_.empty()) hessian_.eliminate_dofs(fixed_mask_);

@@ -74,6 +74,7 @@ SparseHessian::SparseHessian(const Tets& tets, int num_vertices)
       }
     }
   }
+  element_target_ = target;
   source_start_.assign(nnz + 1, 0);
   for (int k = 0; k < nnz; ++k) source_start_[k + 1] = source_start_[k] + count[k + 1];
   sources_.resize(source_start_[nnz]);
@@ -89,6 +90,7 @@ SparseHessian::SparseHessian(const Tets& tets, int num_vertices)
   }
 
   element_values_.assign(std::size_t(num_elements_) * kPacked, 0.0);
+  element_generation_.assign(num_elements_, generation_);  // zero, as filled
   vertex_values_.assign(num_vertices, Eigen::Matrix3d::Zero());
   vertex_touched_.assign(num_vertices, 0);
   direct_ = Eigen::VectorXd::Zero(nnz);
@@ -151,17 +153,14 @@ void SparseHessian::rebuild_pattern() {
 }
 
 void SparseHessian::set_zero() {
-  const std::ptrdiff_t size = static_cast<std::ptrdiff_t>(element_values_.size());
-  double* data = element_values_.data();
-#pragma omp parallel for schedule(static) if (size > kParallelEntries)
-  for (std::ptrdiff_t i = 0; i < size; ++i) data[i] = 0.0;
+  in_order_next_ = -1;
+  ++generation_;  // the element blocks: cleared as they are handed out or in assemble()
   for (int v : touched_vertices_) {
     vertex_values_[v].setZero();
     vertex_touched_[v] = 0;
   }
   touched_vertices_.clear();
-  if (direct_used_) direct_.setZero();
-  direct_used_ = false;
+  direct_used_ = false;  // direct_ is stale now: zeroed or overwritten by its next writer
   extra_.clear();
   projection_active_ = false;
 }
@@ -188,11 +187,11 @@ void SparseHessian::add_vertex_pair_block(int a, int b, const Eigen::Matrix3d& B
     if (!inserted) at->second += L;
     return;
   }
+  use_direct();
   for (int j = 0; j < 3; ++j) {
     const int k = base_entry(3 * r, 3 * c + j);
     for (int i = 0; i < 3; ++i) direct_[k + i] += L(i, j);  // rows 3r, 3r+1, 3r+2 are adjacent
   }
-  direct_used_ = true;
 }
 
 void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& A) {
@@ -203,9 +202,14 @@ void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& 
   const bool base = A.nonZeros() == static_cast<Eigen::Index>(base_inner_.size()) &&
                     std::equal(base_outer_.begin(), base_outer_.end(), A.outerIndexPtr()) &&
                     std::equal(base_inner_.begin(), base_inner_.end(), A.innerIndexPtr());
-  if (base) {
-    direct_ += scale * Eigen::Map<const Eigen::VectorXd>(A.valuePtr(), A.nonZeros());
+  const Eigen::Map<const Eigen::VectorXd> values(A.valuePtr(), A.nonZeros());
+  if (base && !direct_used_) {
+    direct_.noalias() = scale * values;  // the first term: 0 + x = x, without zeroing first
+    direct_used_ = true;
+  } else if (base) {
+    direct_ += scale * values;
   } else {
+    use_direct();
     for (int col = 0; col < A.cols(); ++col) {
       for (Eigen::SparseMatrix<double>::InnerIterator it(A, col); it; ++it) {
         const int row = static_cast<int>(it.row());
@@ -220,6 +224,37 @@ void SparseHessian::add_matrix(double scale, const Eigen::SparseMatrix<double>& 
       }
     }
   }
+}
+
+bool SparseHessian::begin_elements_in_order() {
+  if (in_order_next_ >= 0) return false;
+  for (int e = 0; e < num_elements_; ++e) {
+    if (element_generation_[e] == generation_) return false;
+  }
+  if (direct_used_) {
+    in_order_sum_ = direct_;
+  } else {
+    in_order_sum_.setZero(direct_.size());
+  }
+  direct_used_ = false;  // direct values added from now on are summed after the elements
+  in_order_next_ = 0;
+  return true;
+}
+
+void SparseHessian::add_element_in_order(int e, const double* packed) {
+  if (e != in_order_next_ || e >= num_elements_) {
+    throw std::logic_error("SparseHessian: element " + std::to_string(e) +
+                           " handed out of order (expected " + std::to_string(in_order_next_) + ")");
+  }
+  const int* target = element_target_.data() + std::size_t(e) * kPacked;
+  double* sum = in_order_sum_.data();
+  for (int p = 0; p < kPacked; ++p) sum[target[p]] += packed[p];
+  ++in_order_next_;
+}
+
+void SparseHessian::use_direct() {
+  if (direct_used_) return;
+  direct_.setZero();
   direct_used_ = true;
 }
 
@@ -237,13 +272,32 @@ const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
   if (!same) rebuild_pattern();
   const int nnz = static_cast<int>(base_inner_.size());
   double* values = matrix_.valuePtr();
+  const int* position = base_position_.data();
+  const bool in_order = in_order_next_ >= 0;
+  if (in_order && in_order_next_ != num_elements_) {
+    throw std::logic_error("SparseHessian: assemble() after " + std::to_string(in_order_next_) +
+                           " of " + std::to_string(num_elements_) + " elements in order");
+  }
+  bool buffered = !in_order;  // element blocks to gather
+  for (int e = 0; e < num_elements_ && !buffered; ++e) buffered = element_generation_[e] == generation_;
+  if (buffered) {
+    // Blocks nobody touched in this assembly still hold an older one's values.
+    for (int e = 0; e < num_elements_; ++e) {
+      if (element_generation_[e] != generation_) element_block(e);
+    }
+  }
+  if (!in_order) use_direct();  // zero when no form added to it
   const double* elem = element_values_.data();
   const double* direct = direct_.data();
-  const int* position = base_position_.data();
+  const double* first = in_order ? in_order_sum_.data() : direct;
+  const bool late_direct = in_order && direct_used_;
 #pragma omp parallel for schedule(static) if (nnz > kParallelEntries)
   for (int k = 0; k < nnz; ++k) {
-    double sum = direct[k];
-    for (int s = source_start_[k]; s < source_start_[k + 1]; ++s) sum += elem[sources_[s]];
+    double sum = first[k];
+    if (late_direct) sum += direct[k];
+    if (buffered) {
+      for (int s = source_start_[k]; s < source_start_[k + 1]; ++s) sum += elem[sources_[s]];
+    }
     values[position[k]] = sum;
   }
   std::vector<int> sorted = touched_vertices_;

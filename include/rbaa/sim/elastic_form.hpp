@@ -31,6 +31,7 @@ class ElasticForm : public Form {
   void add_gradient(const Eigen::VectorXd& q, double scale, Eigen::VectorXd& grad) const override;
   void add_hessian(const Eigen::VectorXd& q, double scale, HessianKind kind,
                    SparseHessian& hessian) const override;
+  bool writes_element_blocks() const override { return true; }
   /// G's term scale grad Psi through mu(Y, nu), lambda(Y, nu) and the factor alpha^3.
   void add_material_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double scale,
                             const MaterialField& materials, MaterialGradient& g) const override;

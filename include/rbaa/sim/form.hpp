@@ -35,6 +35,10 @@ class Form {
   /// Adds scale * d2E/dq2 (exact or PSD-projected) to the Hessian's buffers.
   virtual void add_hessian(const Eigen::VectorXd& q, double scale, HessianKind kind,
                            SparseHessian& hessian) const = 0;
+  /// Whether add_hessian writes element blocks (SparseHessian::element_block or the in-order
+  /// sums): IncrementalPotential assembles such forms after the others, whose direct values
+  /// the in-order sums need first.
+  virtual bool writes_element_blocks() const { return false; }
 
   /// Largest fraction t in (0, 1] of the step q0 -> q1 that the form allows (CCD for contact).
   virtual double max_step_size(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const {

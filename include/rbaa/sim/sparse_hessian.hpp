@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <utility>
@@ -41,13 +42,45 @@ class SparseHessian {
   std::uint64_t pattern_version() const { return pattern_version_; }
 
   /// Clears every buffer (element blocks, vertex blocks, direct values, extra blocks). The pattern
-  /// of matrix() stays until the next assemble().
+  /// of matrix() stays until the next assemble(). Element blocks are cleared lazily, each when it
+  /// is first handed out (or by assemble() if none is): an assembly then writes the ~6 MB of
+  /// element blocks once instead of zeroing them, reading them back and adding.
   void set_zero();
-  /// Element e's packed 12x12 lower block; callers add to it.
-  double* element_block(int e) { return element_values_.data() + std::size_t(e) * kPacked; }
+  /// Element e's packed 12x12 lower block; callers add to it. Safe from parallel loops over
+  /// elements (each element by one thread).
+  double* element_block(int e) {
+    double* block = element_values_.data() + std::size_t(e) * kPacked;
+    if (element_generation_[e] != generation_) {
+      element_generation_[e] = generation_;
+      std::fill(block, block + kPacked, 0.0);
+    }
+    return block;
+  }
+  /// Element e's block for a caller that writes all kPacked entries: returns true when nothing
+  /// has been added to it since set_zero(), and then the caller must assign (=) every entry
+  /// instead of adding (the block holds stale values); false: add to it as to element_block(e).
+  /// The sums are the same either way (0 + x = x).
+  bool element_block_for_writing(int e, double*& block) {
+    block = element_values_.data() + std::size_t(e) * kPacked;
+    if (element_generation_[e] == generation_) return false;
+    element_generation_[e] = generation_;
+    return true;
+  }
   /// Vertex v's 3x3 diagonal block (full; its lower triangle is used); callers add to it. Not
   /// thread-safe across calls for different vertices (contact forms touch few vertices).
   Eigen::Matrix3d& vertex_block(int v);
+  /// The buffer-free alternative to element_block() for a form that writes every element's block
+  /// whole (the elasticity): when begin_elements_in_order() returns true, the caller hands every
+  /// element's packed block to add_element_in_order() in ascending element order (0 .. #T - 1),
+  /// and each is summed straight into the matrix in the order assemble() sums the buffers (the
+  /// direct values, then the elements in order): the same matrix, bit for bit, without writing,
+  /// zeroing and gathering the ~6 MB of element buffers on every assembly. The direct values
+  /// (add_matrix, add_vertex_pair_block) should all be in before (IncrementalPotential runs
+  /// element-block forms last): one added later is summed after the elements instead (the same
+  /// matrix up to round-off). Returns false (use element_block) when an element block was
+  /// already written in this assembly. Not thread-safe.
+  bool begin_elements_in_order();
+  void add_element_in_order(int e, const double* packed);
   /// Adds B to the block (row vertex a, column vertex b) and B^T to (b, a) for a != b (an extra
   /// block when a and b share no tet); a == b adds (B + B^T) / 2 to the diagonal block. Not
   /// thread-safe.
@@ -80,6 +113,8 @@ class SparseHessian {
   int base_entry(int row, int col) const;
   // Rebuilds matrix_'s pattern as the base one plus the blocks of extra_ (a new pattern_version).
   void rebuild_pattern();
+  // Zeroes direct_ unless it already holds this assembly's values (set_zero() leaves it stale).
+  void use_direct();
 
   int num_elements_ = 0;
   int num_vertices_ = 0;
@@ -93,11 +128,18 @@ class SparseHessian {
   std::vector<int> sources_;            // flat indices into element_values_
   std::vector<int> diagonal_entries_;   // 6 per vertex: base nnz of its diagonal block's lower part
   std::vector<double> element_values_;  // #T * kPacked
+  std::vector<int> element_target_;     // #T * kPacked: base nnz of each packed element entry
+  Eigen::VectorXd in_order_sum_;        // base nnz: the direct values plus the elements so far
+  int in_order_next_ = -1;              // next element in order; -1: no in-order pass yet
+  // An element block holds this assembly's values iff its generation is generation_ (set_zero()
+  // starts a new one); older blocks read as zero.
+  std::uint64_t generation_ = 1;
+  std::vector<std::uint64_t> element_generation_;
   std::vector<Eigen::Matrix3d> vertex_values_;
   std::vector<char> vertex_touched_;
   std::vector<int> touched_vertices_;
   Eigen::VectorXd direct_;  // base nnz values added through add_matrix / add_vertex_pair_block
-  bool direct_used_ = false;
+  bool direct_used_ = false;  // direct_ holds this assembly's values (else it is stale)
   // Blocks between vertices sharing no tet, keyed (row vertex, column vertex), row > column.
   std::map<std::pair<int, int>, Eigen::Matrix3d> extra_;
   bool projection_active_ = false;
