@@ -58,6 +58,15 @@ TEST(Scene, ShippedConfigsLoad) {
 
   const Scene bunny = load_scene(kConfigs + "bunny.yaml");
   EXPECT_EQ(bunny.mesh.shape, "bunny");
+
+  // The ball's scene attacked where it is accurate (issue 20): the same scene as ball.yaml.
+  const Scene accurate = load_scene(kConfigs + "ball_accurate.yaml");
+  EXPECT_EQ(accurate.mesh.target_tets, ball.mesh.target_tets);
+  EXPECT_EQ(accurate.position, ball.position);
+  EXPECT_EQ(accurate.velocity, ball.velocity);
+  EXPECT_EQ(accurate.contact_substeps, 1024);
+  EXPECT_EQ(accurate.objective.kind, ObjectiveSpec::Kind::kAway);
+  EXPECT_TRUE(accurate.start_best_uniform);
 }
 
 TEST(Scene, PlacesTheObjectAtItsInitialPose) {
