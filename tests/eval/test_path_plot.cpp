@@ -178,7 +178,11 @@ TEST(PathPlot, TheBallsSideViewDrawsTheBoardAndTheRimsSections) {
   // The rim: every point within the 8 mm tube of a circle of radius 0.2286 + 0.008 about the
   // hoop's centre, and points on both sides of it, near z = 3.048. The mesh's chords (64 around
   // the ring) may lie outside the smooth tube by at most 0.2446 (1 - cos(pi / 64)) = 0.3 mm.
-  const Eigen::Vector3d hoop(0, -0.3796, 3.048);
+  // The hoop's centre: the config's predicate names it (the rim's placement, y = -0.3796 m,
+  // z = 3.048 m; along the board x = -0.12 m since the rim moved).
+  const Eigen::Vector3d hoop = scene.demonstration.predicate.centre;
+  EXPECT_NEAR(hoop.y(), -0.3796, 1e-12);
+  EXPECT_NEAR(hoop.z(), 3.048, 1e-12);
   const double u0 = view.u.dot(hoop), ring = 0.2286 + 0.008;
   int left = 0, right = 0;
   for (const Eigen::Vector2d& p : points[1]) {
