@@ -15,6 +15,7 @@
 #include "mesh_fixtures.hpp"
 #include "rbaa/material/lame.hpp"
 #include "rbaa/sim/elastic_form.hpp"
+#include "rbaa/sim/stable_neo_hookean.hpp"
 
 namespace rbaa {
 namespace {
@@ -123,6 +124,46 @@ TEST(ElasticForm, ProjectedHessianIsPsdAndExactWhereExactIsPsd) {
   const Eigen::MatrixXd Hp2 = test::form_hessian(form, q2, HessianKind::kProjected, H);
   const Eigen::MatrixXd Hx2 = test::form_hessian(form, q2, HessianKind::kExact, H);
   EXPECT_LT((Hp2 - Hx2).norm(), 1e-12 * Hx2.norm());
+}
+
+// The exact Hessian is assembled in closed form per vertex pair (elastic_form.cpp,
+// add_exact_block): it must be D^T H9 D with H9 the 9x9 Hessian in F (snh::hessian) and D = dF/dx,
+// to round-off, at compressed, stretched, sheared and inverted states and a near-incompressible
+// material, where finite differences would only check it to 1e-6.
+TEST(ElasticForm, ExactHessianIsThePulledBackHessianInF) {
+  const TetMesh mesh = test::tet({0.1, -0.2, 0.05}, {1.3, 0.1, -0.1}, {0.2, 0.9, 0.3}, {-0.1, 0.3, 1.1});
+  const double Y = 3e9, nu = 0.45, alpha = 0.7;
+  MaterialField field = MaterialField::uniform(1, Y, nu, 2500.0);
+  field.alpha[0] = alpha;
+  const ElasticForm form(mesh, field);
+  const LameParameters lame = lame_from_young_poisson(Y, nu);
+  const Eigen::Matrix3d rest_edges =
+      (Eigen::Matrix3d() << (mesh.V.row(1) - mesh.V.row(0)).transpose(),
+       (mesh.V.row(2) - mesh.V.row(0)).transpose(), (mesh.V.row(3) - mesh.V.row(0)).transpose())
+          .finished();
+  const double weight = alpha * alpha * alpha * std::abs(rest_edges.determinant()) / 6.0;
+  SparseHessian H(mesh.T, mesh.num_vertices());
+  Eigen::Matrix3d inverting = Eigen::Matrix3d::Identity();
+  inverting(2, 2) = -0.3;
+  const Eigen::Matrix3d shear = (Eigen::Matrix3d() << 1, 0.8, 0, 0, 1, 0.2, 0.1, 0, 1).finished();
+  unsigned seed = 0;
+  for (const Eigen::Matrix3d& A : {Eigen::Matrix3d(0.6 * Eigen::Matrix3d::Identity()),
+                                   Eigen::Matrix3d(1.7 * Eigen::Matrix3d::Identity()), shear, inverting}) {
+    const Eigen::VectorXd q = test::deformed(mesh, 0.05, ++seed, A);
+    // F is linear in q: its columns of D are exact differences.
+    Eigen::Matrix<double, 9, 12> D;
+    const Eigen::Matrix3d F = form.deformation_gradient(q, 0);
+    for (int j = 0; j < 12; ++j) {
+      Eigen::VectorXd qj = q;
+      qj[j] += 1.0;
+      const Eigen::Matrix3d dF = form.deformation_gradient(qj, 0) - F;
+      D.col(j) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(dF.data());
+    }
+    const Eigen::MatrixXd expected =
+        weight * D.transpose() * snh::hessian(F, lame.mu, lame.lambda) * D;
+    const Eigen::MatrixXd Hx = test::form_hessian(form, q, HessianKind::kExact, H);
+    EXPECT_LT((Hx - expected).norm(), 1e-13 * expected.norm()) << "F =\n" << F;
+  }
 }
 
 // Uniaxial stretch of a block: impose x -> (1 + eps) x, let the lateral strain delta relax
