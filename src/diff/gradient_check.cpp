@@ -248,10 +248,15 @@ GradientCheckResult check_gradient(TrajectoryGradientFunction& f, const Eigen::V
       result.max_tangent_relative_error =
           std::max(result.max_tangent_relative_error, checks[i].tangent_relative_error);
       result.max_tangent_noise = std::max(result.max_tangent_noise, checks[i].tangent_noise);
-      result.tangent_pass =
-          result.tangent_pass && checks[i].tangent_relative_error <=
-                                     std::max(options.tangent_tolerance,
-                                              options.tangent_noise_factor * checks[i].tangent_noise);
+    }
+    // The round-off is the run's (one recurrence over the same steps and factors), and each split
+    // is one sample of it: on the 300-tet cube's nu one run's three samples spread from 2.6e-11 to
+    // 9.3e-10, so a direction judged by its own sample alone failed at 2.6e-10, below what the
+    // same run measured for its other directions (a wrong adjoint term is off by 1e-3 to 1).
+    const double floor = options.tangent_noise_factor * result.max_tangent_noise;
+    for (const DirectionCheck& c : checks) {
+      result.tangent_pass = result.tangent_pass &&
+                            c.tangent_relative_error <= std::max(options.tangent_tolerance, floor);
     }
   }
 

@@ -51,7 +51,8 @@ struct GradientCheckOptions {
   /// Tangent-vs-adjoint normwise error that passes (or 4x the tangent's measured round-off, if
   /// larger: on long stiff runs the forward recurrence's own round-off reaches ~1e-10).
   double tangent_tolerance = 1e-10;
-  /// An error within this many times the tangent's own measured round-off passes (0: off).
+  /// An error within this many times the tangent's own measured round-off (the largest of the
+  /// run's directions: each measures the same recurrence once) passes (0: off).
   double tangent_noise_factor = 4.0;
 };
 
@@ -83,8 +84,8 @@ struct GradientCheckResult {
   double max_relative_error = 0;          ///< finite differences, over all directions
   double max_tangent_relative_error = 0;  ///< tangent-linear, over all directions
   double max_tangent_noise = 0;           ///< the tangent's own round-off, over all directions
-  /// Every direction's tangent error within max(tangent_tolerance, tangent_noise_factor x its
-  /// tangent_noise)
+  /// Every direction's tangent error within max(tangent_tolerance, tangent_noise_factor x
+  /// max_tangent_noise)
   bool tangent_pass = false;
   bool fd_noise_dominated = false;        ///< every direction above fd_tolerance was noise
   int active_contact_steps = 0;  ///< steps of the base run with contact pairs active
