@@ -16,6 +16,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -87,26 +89,67 @@ void BM_AttackIteration(benchmark::State& state, SceneFixture* f) {
   // One untimed iteration first: the first gradient allocates every stored factor and the first
   // forward run does the symbolic analysis; an attack pays that once in hundreds of iterations.
   rbaa::run_attack_loop(*f->design, *f->moments, f->smoother.get(), term, f->theta0, loop);
+  // Factorisations of an evaluation, and their time.
+  auto factorisations_of = [](const rbaa::TrajectoryEvaluation& e, double* seconds) {
+    int n = e.adjoint.rebuilt_factorizations;
+    *seconds = e.adjoint.factorization_seconds;
+    for (const rbaa::StepStats& s : e.trajectory.steps) {
+      n += s.newton_iterations + s.projected_fallbacks;
+      *seconds += s.factorization_seconds;
+    }
+    return n;
+  };
+  double last_seconds = 0;  // the iteration whose phases are counted below
+  // Per iteration its time over (steps x its own mean factorisation): on a shared host one
+  // factorisation's time drifts by 20 % between iterations, and a mean iteration over the last
+  // iteration's factorisation mixes two host speeds.
+  std::vector<double> ratios;
   for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
     const rbaa::AttackLoopResult r =
         rbaa::run_attack_loop(*f->design, *f->moments, f->smoother.get(), term, f->theta0, loop);
     benchmark::DoNotOptimize(r.theta.data());
+    last_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double seconds = 0;
+    const int n = factorisations_of(f->f->last(), &seconds);
+    const double steps = static_cast<double>(f->f->last().trajectory.steps.size());
+    if (n > 0 && seconds > 0) ratios.push_back(last_seconds / (steps * seconds / n));
+  }
+  std::sort(ratios.begin(), ratios.end());
+  if (!ratios.empty()) {
+    const std::size_t m = ratios.size();
+    state.counters["ratio_median"] = m % 2 ? ratios[m / 2] : 0.5 * (ratios[m / 2 - 1] + ratios[m / 2]);
+    state.counters["ratio_min"] = ratios.front();
+    state.counters["ratio_max"] = ratios.back();
+    state.counters["ratio_iterations"] = static_cast<double>(m);
   }
   const rbaa::TrajectoryEvaluation& e = f->f->last();
-  int newton = 0, factorisations = 0;
-  double factor_seconds = e.adjoint.factorization_seconds;
+  int newton = 0;
+  double factor_seconds = 0;
+  const int factorisations = factorisations_of(e, &factor_seconds);
+  for (const rbaa::StepStats& s : e.trajectory.steps) newton += s.newton_iterations;
+  // Where the forward pass's time goes (the rest of forward_s: predictor, CCD set-up, callbacks).
+  double gradient_s = 0, assembly_s = 0, solve_s = 0, line_search_s = 0;
   for (const rbaa::StepStats& s : e.trajectory.steps) {
-    newton += s.newton_iterations;
-    factorisations += s.newton_iterations + s.projected_fallbacks;
-    factor_seconds += s.factorization_seconds;
+    gradient_s += s.gradient_seconds;
+    assembly_s += s.assembly_seconds;
+    solve_s += s.solve_seconds;
+    line_search_s += s.line_search_seconds;
   }
-  factorisations += e.adjoint.rebuilt_factorizations;
+  state.counters["fwd_gradient_s"] = gradient_s;
+  state.counters["fwd_assembly_s"] = assembly_s;
+  state.counters["fwd_factor_s"] = factor_seconds - e.adjoint.factorization_seconds;
+  state.counters["fwd_solve_s"] = solve_s;
+  state.counters["fwd_line_search_s"] = line_search_s;
+  state.counters["bwd_solve_s"] = e.adjoint.solve_seconds;
+  state.counters["bwd_parameter_s"] = e.adjoint.parameter_seconds;
   const int steps = static_cast<int>(e.trajectory.steps.size());
   state.counters["steps"] = steps;
   state.counters["newton_its"] = newton;
   state.counters["factorisations"] = factorisations;
   state.counters["backward_factorisations"] = e.adjoint.rebuilt_factorizations;
   state.counters["factor_each_s"] = factorisations > 0 ? factor_seconds / factorisations : 0.0;
+  state.counters["last_iteration_s"] = last_seconds;
   state.counters["forward_s"] = e.forward_seconds;
   state.counters["backward_s"] = e.adjoint_seconds;
 }
@@ -122,7 +165,7 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("AttackIteration/" + name).c_str(), BM_AttackIteration, fixtures.back().get())
         ->Unit(benchmark::kSecond)
         ->UseRealTime()
-        ->MinTime(2.0);
+        ->MinTime(5.0);
   }
   rbaa_bench::RecordingReporter reporter(options.cpu_time);
   benchmark::RunSpecifiedBenchmarks(&reporter);
@@ -139,14 +182,38 @@ int main(int argc, char** argv) {
                 reporter.counter(p, "backward_factorisations"), reporter.counter(p, "factor_each_s") * 1e3,
                 reporter.counter(p, "forward_s"), reporter.counter(p, "backward_s"));
   }
+  // The last iteration's phases in units of one factorisation per step: what the ratio is made of
+  // (they sum to the last iteration's time; the ratio below is of the mean iteration).
+  std::printf("\n%-6s %8s %8s %8s %8s %8s %8s %8s %8s %8s  (per step, in factorisations)\n", "scene",
+              "factor", "assemble", "solve", "gradient", "lsearch", "fwd rest", "bwd solv", "bwd par",
+              "outside");
+  for (const auto& f : fixtures) {
+    const std::string p = "AttackIteration/" + f->name;
+    const double t = reporter.time(p), steps = reporter.counter(p, "steps");
+    const double unit = steps * reporter.counter(p, "factor_each_s");
+    if (t <= 0 || unit <= 0) continue;
+    auto c = [&](const char* key) { return reporter.counter(p, key); };
+    const double fwd_rest = c("forward_s") - c("fwd_gradient_s") - c("fwd_assembly_s") - c("fwd_factor_s") -
+                            c("fwd_solve_s") - c("fwd_line_search_s");
+    const double bwd_rest = c("backward_s") - c("bwd_solve_s") - c("bwd_parameter_s");
+    std::printf("%-6s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f\n", f->name.c_str(),
+                c("fwd_factor_s") / unit, c("fwd_assembly_s") / unit, c("fwd_solve_s") / unit,
+                c("fwd_gradient_s") / unit, c("fwd_line_search_s") / unit, fwd_rest / unit,
+                c("bwd_solve_s") / unit, (c("bwd_parameter_s") + bwd_rest) / unit,
+                (c("last_iteration_s") - c("forward_s") - c("backward_s")) / unit);
+  }
   std::printf("\n");
   for (const auto& f : fixtures) {
     const std::string p = "AttackIteration/" + f->name;
     const double t = reporter.time(p), steps = reporter.counter(p, "steps");
     const double factor = reporter.counter(p, "factor_each_s");
     if (t <= 0 || steps <= 0 || factor <= 0) continue;
-    std::printf("ratio_to_factorisations: %s %.2f (iteration %.3f s / (%g steps x %.2f ms))\n", f->name.c_str(),
-                t / (steps * factor), t, steps, factor * 1e3);
+    std::printf("ratio_to_factorisations: %s %.2f (median of %g iterations, each its time / (steps x its own "
+                "mean factorisation); range %.2f-%.2f; the mean iteration %.3f s / (%g steps x %.2f ms, the "
+                "last iteration's) = %.2f)\n",
+                f->name.c_str(), reporter.counter(p, "ratio_median"), reporter.counter(p, "ratio_iterations"),
+                reporter.counter(p, "ratio_min"), reporter.counter(p, "ratio_max"), t, steps, factor * 1e3,
+                t / (steps * factor));
   }
   std::printf("\n(%s time)\nBLAS/LAPACK mapped into this process:\n%s", options.cpu_time ? "CPU" : "wall",
               rbaa_bench::loaded_blas().c_str());
