@@ -6,9 +6,17 @@
 #include <sstream>
 #include <string>
 
+#include "rbaa/error.hpp"
+
 namespace rbaa {
 
 Eigen::Vector3d centre_of_mass(const Eigen::VectorXd& q, const Eigen::VectorXd& vertex_masses) {
+  if (q.size() != 3 * vertex_masses.size()) {
+    std::ostringstream msg;
+    msg << "centre of mass: " << q.size() << " coordinates for " << vertex_masses.size()
+        << " vertex masses";
+    throw InputError(msg.str());
+  }
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (int v = 0; v < vertex_masses.size(); ++v) c += vertex_masses[v] * q.segment<3>(3 * v);
   return c / vertex_masses.sum();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mesh_fixtures.hpp"
+#include "rbaa/error.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
 
@@ -138,6 +139,26 @@ TEST(Observables, ContactsWithoutReversalOrEndAreNotBounces) {
   EXPECT_EQ(b[1].normal_velocity_out, (std::vector<double>{-0.2}));
   EXPECT_EQ(b[1].normal_velocity_in, (std::vector<double>{-0.43}));
   EXPECT_TRUE(std::isnan(b[1].restitution));
+}
+
+// A caller slicing one body out of a several-body vector must pass exactly that body's
+// coordinates: a longer slice used to be read silently up to the masses' length (and past the
+// vector's end when the body came last).
+TEST(Observables, CentreOfMassRefusesCoordinatesThatAreNotTheMasses) {
+  const Eigen::VectorXd m = Eigen::VectorXd::Constant(2, 0.5);
+  Eigen::VectorXd q(6);
+  q << 0, 0, 0, 2, 4, 6;
+  EXPECT_TRUE(centre_of_mass(q, m).isApprox(Eigen::Vector3d(1, 2, 3)));
+  for (const int n : {3, 9}) {
+    try {
+      centre_of_mass(Eigen::VectorXd::Zero(n), m);
+      ADD_FAILURE() << n << " coordinates for two masses were accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::to_string(n) + " coordinates for 2 vertex masses"),
+                std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace

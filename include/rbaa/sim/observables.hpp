@@ -14,6 +14,7 @@
 namespace rbaa {
 
 /// sum_i m_i x_i / sum_i m_i with the vertex masses (#V): exact for the consistent mass too.
+/// Throws rbaa::InputError unless q has 3 #V entries (a body's slice, not a longer vector).
 Eigen::Vector3d centre_of_mass(const Eigen::VectorXd& q, const Eigen::VectorXd& vertex_masses);
 
 /// Linear momentum sum_i (M v)_i, given the stacked product Mv (3 #V).
