@@ -67,6 +67,18 @@ TEST(Scene, ShippedConfigsLoad) {
   EXPECT_EQ(accurate.contact_substeps, 1024);
   EXPECT_EQ(accurate.objective.kind, ObjectiveSpec::Kind::kAway);
   EXPECT_TRUE(accurate.start_best_uniform);
+
+  // And the bunny's: the scene of bunny.yaml with the same recipe.
+  const Scene bunny_accurate = load_scene(kConfigs + "bunny_accurate.yaml");
+  EXPECT_EQ(bunny_accurate.mesh.shape, bunny.mesh.shape);
+  EXPECT_EQ(bunny_accurate.mesh.target_tets, bunny.mesh.target_tets);
+  EXPECT_EQ(bunny_accurate.position, bunny.position);
+  EXPECT_EQ(bunny_accurate.velocity, bunny.velocity);
+  EXPECT_EQ(bunny_accurate.time_step, bunny.time_step);
+  EXPECT_EQ(bunny_accurate.duration, bunny.duration);
+  EXPECT_EQ(bunny_accurate.contact_substeps, 1024);
+  EXPECT_EQ(bunny_accurate.objective.kind, ObjectiveSpec::Kind::kAway);
+  EXPECT_TRUE(bunny_accurate.start_best_uniform);
 }
 
 TEST(Scene, PlacesTheObjectAtItsInitialPose) {
