@@ -124,28 +124,15 @@ void BM_AttackIteration(benchmark::State& state, SceneFixture* f) {
     state.counters["ratio_iterations"] = static_cast<double>(m);
   }
   const rbaa::TrajectoryEvaluation& e = f->f->last();
-  int newton = 0;
   double factor_seconds = 0;
   const int factorisations = factorisations_of(e, &factor_seconds);
-  for (const rbaa::StepStats& s : e.trajectory.steps) newton += s.newton_iterations;
-  // Where the forward pass's time goes (the rest of forward_s: predictor, CCD set-up, callbacks).
-  double gradient_s = 0, assembly_s = 0, solve_s = 0, line_search_s = 0;
-  for (const rbaa::StepStats& s : e.trajectory.steps) {
-    gradient_s += s.gradient_seconds;
-    assembly_s += s.assembly_seconds;
-    solve_s += s.solve_seconds;
-    line_search_s += s.line_search_seconds;
-  }
-  state.counters["fwd_gradient_s"] = gradient_s;
-  state.counters["fwd_assembly_s"] = assembly_s;
-  state.counters["fwd_factor_s"] = factor_seconds - e.adjoint.factorization_seconds;
-  state.counters["fwd_solve_s"] = solve_s;
-  state.counters["fwd_line_search_s"] = line_search_s;
+  // Where the forward pass's time goes: newton_its, grad_s, assembly_s, factor_s, solve_s,
+  // search_s (line searches), other_s (predictor, CCD set-up, callbacks).
+  rbaa_bench::newton_counters(state, e.trajectory);
   state.counters["bwd_solve_s"] = e.adjoint.solve_seconds;
   state.counters["bwd_parameter_s"] = e.adjoint.parameter_seconds;
   const int steps = static_cast<int>(e.trajectory.steps.size());
   state.counters["steps"] = steps;
-  state.counters["newton_its"] = newton;
   state.counters["factorisations"] = factorisations;
   state.counters["backward_factorisations"] = e.adjoint.rebuilt_factorizations;
   state.counters["factor_each_s"] = factorisations > 0 ? factor_seconds / factorisations : 0.0;
@@ -193,12 +180,12 @@ int main(int argc, char** argv) {
     const double unit = steps * reporter.counter(p, "factor_each_s");
     if (t <= 0 || unit <= 0) continue;
     auto c = [&](const char* key) { return reporter.counter(p, key); };
-    const double fwd_rest = c("forward_s") - c("fwd_gradient_s") - c("fwd_assembly_s") - c("fwd_factor_s") -
-                            c("fwd_solve_s") - c("fwd_line_search_s");
+    const double fwd_rest = c("forward_s") - c("grad_s") - c("assembly_s") - c("factor_s") -
+                            c("solve_s") - c("search_s");
     const double bwd_rest = c("backward_s") - c("bwd_solve_s") - c("bwd_parameter_s");
     std::printf("%-6s %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f %8.2f\n", f->name.c_str(),
-                c("fwd_factor_s") / unit, c("fwd_assembly_s") / unit, c("fwd_solve_s") / unit,
-                c("fwd_gradient_s") / unit, c("fwd_line_search_s") / unit, fwd_rest / unit,
+                c("factor_s") / unit, c("assembly_s") / unit, c("solve_s") / unit,
+                c("grad_s") / unit, c("search_s") / unit, fwd_rest / unit,
                 c("bwd_solve_s") / unit, (c("bwd_parameter_s") + bwd_rest) / unit,
                 (c("last_iteration_s") - c("forward_s") - c("backward_s")) / unit);
   }

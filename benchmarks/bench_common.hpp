@@ -17,6 +17,7 @@
 
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/sim/threads.hpp"
+#include "rbaa/sim/trajectory.hpp"
 
 namespace rbaa_bench {
 
@@ -141,5 +142,29 @@ class RecordingReporter : public benchmark::ConsoleReporter {
  private:
   bool cpu_time_ = false;
 };
+
+// Where the forward run's time went, as counters (seconds per run).
+inline void newton_counters(benchmark::State& state, const rbaa::Trajectory& t) {
+  double grad = 0, assembly = 0, factor = 0, solve = 0, search = 0, total = 0;
+  int iterations = 0, fallbacks = 0;
+  for (const rbaa::StepStats& s : t.steps) {
+    grad += s.gradient_seconds;
+    assembly += s.assembly_seconds;
+    factor += s.factorization_seconds;
+    solve += s.solve_seconds;
+    search += s.line_search_seconds;
+    total += s.seconds;
+    iterations += s.newton_iterations;
+    fallbacks += s.projected_fallbacks;
+  }
+  state.counters["newton_its"] = iterations;
+  state.counters["fallbacks"] = fallbacks;
+  state.counters["grad_s"] = grad;
+  state.counters["assembly_s"] = assembly;
+  state.counters["factor_s"] = factor;
+  state.counters["solve_s"] = solve;
+  state.counters["search_s"] = search;
+  state.counters["other_s"] = total - grad - assembly - factor - solve - search;
+}
 
 }  // namespace rbaa_bench

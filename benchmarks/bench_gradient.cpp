@@ -53,30 +53,6 @@ std::unique_ptr<SceneFixture> make_fixture(const rbaa_bench::Options& o, const s
   return f;
 }
 
-// Where the forward run's time went, as counters (seconds per run).
-void newton_counters(benchmark::State& state, const rbaa::Trajectory& t) {
-  double grad = 0, assembly = 0, factor = 0, solve = 0, search = 0, total = 0;
-  int iterations = 0, fallbacks = 0;
-  for (const rbaa::StepStats& s : t.steps) {
-    grad += s.gradient_seconds;
-    assembly += s.assembly_seconds;
-    factor += s.factorization_seconds;
-    solve += s.solve_seconds;
-    search += s.line_search_seconds;
-    total += s.seconds;
-    iterations += s.newton_iterations;
-    fallbacks += s.projected_fallbacks;
-  }
-  state.counters["newton_its"] = iterations;
-  state.counters["fallbacks"] = fallbacks;
-  state.counters["grad_s"] = grad;
-  state.counters["assembly_s"] = assembly;
-  state.counters["factor_s"] = factor;
-  state.counters["solve_s"] = solve;
-  state.counters["search_s"] = search;
-  state.counters["other_s"] = total - grad - assembly - factor - solve - search;
-}
-
 // One untimed evaluation first: the attack calls these hundreds of times, so the steady state is
 // what matters (the first gradient allocates every stored factor, ~15 MB per step on the cube,
 // later ones refill them in place; the first forward run does the symbolic analysis).
@@ -91,7 +67,7 @@ void BM_Forward(benchmark::State& state, SceneFixture* f) {
     f->rebuilt->evaluate(f->theta, nullptr);
     benchmark::DoNotOptimize(f->rebuilt->last().value);
   }
-  newton_counters(state, f->rebuilt->last().trajectory);
+  rbaa_bench::newton_counters(state, f->rebuilt->last().trajectory);
 }
 
 void BM_GradientStored(benchmark::State& state, SceneFixture* f) {
