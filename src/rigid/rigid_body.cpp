@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -87,21 +88,50 @@ namespace {
 // ball's sphere fit fail, so it became a hull while the reference was a sphere: 5 cm apart in
 // Bullet). Sorting makes the hull's point order, and so Bullet's tie-breaking between equal
 // support points, independent of how the mesh numbers its vertices.
+//
+// Two objects with the same surface up to round-off (a reference and an attack's object placed
+// by another sequence of turns and moves) must get bit-identical points: btConvexHullComputer
+// works on integers, each coordinate truncated to 1/10216 of the points' extent from the middle
+// of their bounding box, and the extreme points sit exactly on a cell boundary there, so the last
+// bits decide their cell. Its output vertices are those integers scaled back (up to half a cell
+// off the surface: 2.4e-5 m on the hoop's ball) and points in one cell merge, so one flipped cell
+// moved the sphere fitted through them by 1e-7 m and put the hoop's twins 1e-6 m apart; a turned
+// cube's hull got 41 vertices in place of 37 (an attack's turned twin and the reference 2 m
+// apart at the backboard). So the surface vertices are first rounded to a grid of about 6e-8 of
+// their extent (a power of two: the rounding is exact), which makes round-off twins equal unless
+// a coordinate lies within its round-off of a half cell, and the hull's vertices are taken from
+// those rounded points by index, not from the integers. Bullet still quantises the hull when it
+// builds its polyhedral features (initializePolyhedralFeatures), but now of equal inputs.
 Vertices hull_vertices(const TetMesh& mesh) {
   const std::vector<int> surface = boundary_vertices(mesh);
-  std::vector<double> coords;
-  coords.reserve(3 * surface.size());
-  for (int v : surface) {
-    for (int c = 0; c < 3; ++c) coords.push_back(mesh.V(v, c));
+  Vertices S(static_cast<Eigen::Index>(surface.size()), 3);
+  for (size_t i = 0; i < surface.size(); ++i)
+    S.row(static_cast<Eigen::Index>(i)) = mesh.V.row(surface[i]);
+  const Eigen::RowVector3d lo = S.colwise().minCoeff(), hi = S.colwise().maxCoeff();
+  const double extent = (hi - lo).norm();
+  if (!(extent > 0) || !std::isfinite(extent)) {
+    throw InputError("rigid shape: the surface's vertices span no volume (extent " +
+                     std::to_string(extent) + " m)");
   }
+  const double cell = std::ldexp(1.0, std::ilogb(extent) - 24);
+  std::vector<std::array<double, 3>> rounded;
+  rounded.reserve(surface.size());
+  for (Eigen::Index i = 0; i < S.rows(); ++i) {
+    rounded.push_back({std::round(S(i, 0) / cell) * cell, std::round(S(i, 1) / cell) * cell,
+                       std::round(S(i, 2) / cell) * cell});
+  }
+  // Sorted and without repeats, so that the hull computer's input depends on the point set only.
+  std::sort(rounded.begin(), rounded.end());
+  rounded.erase(std::unique(rounded.begin(), rounded.end()), rounded.end());
   btConvexHullComputer hull;
-  hull.compute(coords.data(), 3 * static_cast<int>(sizeof(double)),
-               static_cast<int>(surface.size()), 0.0, 0.0);
+  hull.compute(rounded.data()->data(), 3 * static_cast<int>(sizeof(double)),
+               static_cast<int>(rounded.size()), 0.0, 0.0);
   std::vector<std::array<double, 3>> points;
-  for (int i = 0; i < hull.vertices.size(); ++i) {
-    points.push_back({hull.vertices[i].x(), hull.vertices[i].y(), hull.vertices[i].z()});
+  for (int i = 0; i < hull.original_vertex_index.size(); ++i) {
+    points.push_back(rounded.at(static_cast<size_t>(hull.original_vertex_index[i])));
   }
   std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
   Vertices P(static_cast<Eigen::Index>(points.size()), 3);
   for (size_t i = 0; i < points.size(); ++i)
     P.row(static_cast<Eigen::Index>(i)) << points[i][0], points[i][1], points[i][2];

@@ -36,8 +36,8 @@ struct RigidShape {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();        ///< sphere/box centre, mesh frame (m)
   double radius = 0;                                       ///< sphere (m)
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  ///< axis-aligned box (m)
-  Vertices points;  ///< convex hull: its vertices (extreme surface vertices, sorted), mesh frame
-                    ///< (#P by 3)
+  Vertices points;  ///< convex hull: its vertices (extreme surface vertices, rounded to the
+                    ///< surface's grid, sorted), mesh frame (#P by 3)
 
   std::string describe() const;
 };
@@ -46,6 +46,9 @@ struct RigidShape {
 /// lies on one sphere within `sphere_tolerance` of the size (a meshed sphere's vertices sit on
 /// facets of the polyhedron CGAL was given, ~1e-4 inside), an analytic box when the surface is an
 /// axis-aligned box (within `box_tolerance`), otherwise the convex hull of the surface vertices.
+/// All three are fitted to the extreme surface vertices rounded to a grid of at most 6e-8 of the
+/// surface's extent, so that two surfaces equal up to round-off (the same object placed by other
+/// turns) get bit-identical shapes, whose rigid twins then stay identical.
 /// Against half-space obstacles the hull is exact: a plane first touches a body at a hull vertex.
 /// Against triangle-mesh obstacles it is exact only for convex bodies: an obstacle's edge can reach
 /// into a dent of a concave body, which the hull fills in.
