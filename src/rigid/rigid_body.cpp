@@ -104,13 +104,14 @@ namespace {
 // builds its polyhedral features (initializePolyhedralFeatures), but now of equal inputs.
 Vertices hull_vertices(const TetMesh& mesh) {
   const std::vector<int> surface = boundary_vertices(mesh);
+  if (surface.empty()) throw InputError("rigid shape: the mesh has no surface");
   Vertices S(static_cast<Eigen::Index>(surface.size()), 3);
   for (size_t i = 0; i < surface.size(); ++i)
     S.row(static_cast<Eigen::Index>(i)) = mesh.V.row(surface[i]);
   const Eigen::RowVector3d lo = S.colwise().minCoeff(), hi = S.colwise().maxCoeff();
   const double extent = (hi - lo).norm();
   if (!(extent > 0) || !std::isfinite(extent)) {
-    throw InputError("rigid shape: the surface's vertices span no volume (extent " +
+    throw InputError("rigid shape: the surface's bounding box has no finite positive diagonal (" +
                      std::to_string(extent) + " m)");
   }
   const double cell = std::ldexp(1.0, std::ilogb(extent) - 24);
