@@ -28,7 +28,7 @@ TEST(RigidBody, PrincipalFrameReproducesTheInertia) {
   TetMesh mesh = box_tet_mesh({0.1, -0.3, 0.2}, {0.9, 0.2, 0.5}, 4, 3, 2);
   const Eigen::VectorXd rho = Eigen::VectorXd::LinSpaced(mesh.num_tets(), 800, 11300);
   const Moments m = compute_moments(mesh, rho);
-  const RigidMassProperties p = rigid_mass_properties(m);
+  const RigidMassProperties p = rigid_mass_properties(m, 1e-8, 0);  // as computed, not rounded
   EXPECT_DOUBLE_EQ(p.mass, m.m0);
   EXPECT_LT((p.centre - m.m1 / m.m0).norm(), 1e-15);
   EXPECT_NEAR(p.principal_axes.determinant(), 1.0, 1e-12);
@@ -37,6 +37,16 @@ TEST(RigidBody, PrincipalFrameReproducesTheInertia) {
   // An asymmetric object: three distinct principal moments, axes not the coordinate axes.
   EXPECT_GT(p.principal_moments[1] - p.principal_moments[0], 1e-3 * p.principal_moments[2]);
   EXPECT_GT(p.principal_moments[2] - p.principal_moments[1], 1e-3 * p.principal_moments[2]);
+  // As the twins get them: each value on a grid of 2^-24 of its scale, the axes orthonormal.
+  const RigidMassProperties r = rigid_mass_properties(m);
+  EXPECT_NEAR(r.mass, m.m0, std::ldexp(m.m0, -24));
+  EXPECT_LT((r.centre - p.centre).norm(), 1e-7 * std::sqrt(p.principal_moments[2] / p.mass));
+  EXPECT_LT((r.principal_axes.transpose() * r.principal_axes - Eigen::Matrix3d::Identity()).norm(),
+            1e-15);
+  EXPECT_NEAR(r.principal_axes.determinant(), 1.0, 1e-15);
+  const Eigen::Matrix3d J =
+      r.principal_axes * r.principal_moments.asDiagonal() * r.principal_axes.transpose();
+  EXPECT_LT((J - m.inertia_about_centre()).norm(), 1e-7 * J.norm());
 }
 
 TEST(RigidBody, ShapeDetection) {

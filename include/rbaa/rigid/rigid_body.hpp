@@ -24,9 +24,13 @@ struct RigidMassProperties {
 /// Mass, centre, and the eigen-decomposition of m2 moved to the centre (parallel-axis shift).
 /// Principal moments equal within `degenerate_tolerance` (relative) get a canonical basis built
 /// from the mesh axes (identity when all three are equal), and every axis a canonical sign, so
-/// that objects with equal inertia get the same frame.
+/// that objects with equal inertia get the same frame. With `grid_bits` > 0 the mass, each
+/// principal moment, each coordinate of the centre (on the radius of gyration's scale) and each
+/// entry of the axes (then made orthonormal again) are rounded to a power-of-two grid of
+/// 2^-grid_bits of their scale (6e-8 at 24), so that objects whose moments agree to round-off get
+/// bit-identical rigid twins; 0 gives the values as computed.
 RigidMassProperties rigid_mass_properties(const Moments& moments,
-                                          double degenerate_tolerance = 1e-8);
+                                          double degenerate_tolerance = 1e-8, int grid_bits = 24);
 
 /// The collision shape handed to the rigid simulator.
 enum class RigidShapeKind { kSphere, kBox, kConvexHull };
