@@ -815,12 +815,15 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
 
   ev.rigid_vs_rigid = compare_runs(ev.rigid_reference, ev.rigid_adversarial);
   {
-    // Bullet's own sensitivity to differences of the adversarial's size in its inputs.
-    const double radius = std::sqrt(ref_mass.principal_moments.maxCoeff() / ref_mass.mass);
-    double delta = std::max(std::abs(adv_mass.mass / ref_mass.mass - 1),
-                            (adv_mass.centre - ref_mass.centre).norm() / radius);
+    // Bullet's own sensitivity to differences of the adversarial's size in its inputs: the
+    // differences before the twins' rounding (rigid_mass_properties), which the rounding removes.
+    const RigidMassProperties ref_exact = rigid_mass_properties(ev.reference_moments, 1e-8, 0);
+    const RigidMassProperties adv_exact = rigid_mass_properties(ev.adversarial_moments, 1e-8, 0);
+    const double radius = std::sqrt(ref_exact.principal_moments.maxCoeff() / ref_exact.mass);
+    double delta = std::max(std::abs(adv_exact.mass / ref_exact.mass - 1),
+                            (adv_exact.centre - ref_exact.centre).norm() / radius);
     for (int i = 0; i < 3; ++i) {
-      delta = std::max(delta, std::abs(adv_mass.principal_moments[i] / ref_mass.principal_moments[i] - 1));
+      delta = std::max(delta, std::abs(adv_exact.principal_moments[i] / ref_exact.principal_moments[i] - 1));
     }
     ev.rigid_perturbation = std::max(delta, 1e-15);
     // Mass and moments scaled, and the centre (where the collision shape sits against the centre
@@ -828,14 +831,24 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
     RigidMassProperties perturbed = ref_mass;
     perturbed.mass *= 1 + ev.rigid_perturbation;
     perturbed.principal_moments *= 1 + ev.rigid_perturbation;
-    perturbed.centre.x() += (adv_mass.centre - ref_mass.centre).norm();
+    const double centre_shift = (adv_exact.centre - ref_exact.centre).norm();
+    perturbed.centre.x() += centre_shift;
     // And its principal axes turned by as much as the adversarial's are turned from them (a nearly
     // round body's axes follow small differences of its moments a long way), about x.
-    const Eigen::AngleAxisd axes_turn(adv_mass.principal_axes * ref_mass.principal_axes.transpose());
+    const Eigen::AngleAxisd axes_turn(adv_exact.principal_axes * ref_exact.principal_axes.transpose());
     ev.rigid_axes_turn = axes_turn.angle();
     perturbed.principal_axes = Eigen::AngleAxisd(ev.rigid_axes_turn, Eigen::Vector3d::UnitX()) *
                                ref_mass.principal_axes;
-    const auto runs = simulate_rigid_bodies(perturbed, ref_shape, scene, chosen.rigid, ev.duration, further);
+    // Copies of the object (demonstration.object_copies) differ from the reference's by as much.
+    std::vector<RigidBody> perturbed_further = further;
+    for (int c : world.copies) {
+      RigidMassProperties& m = perturbed_further.at(static_cast<size_t>(c - 1)).mass;
+      m.mass *= 1 + ev.rigid_perturbation;
+      m.principal_moments *= 1 + ev.rigid_perturbation;
+      m.centre.x() += centre_shift;
+    }
+    const auto runs =
+        simulate_rigid_bodies(perturbed, ref_shape, scene, chosen.rigid, ev.duration, perturbed_further);
     ev.rigid_sensitivity = compare_runs(
         ev.rigid_reference, trace_from_rigid("rigid reference, inputs perturbed", runs.at(traced), 0));
   }

@@ -336,12 +336,12 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     out << "As rigid bodies the two objects are " << (ev.rigid_vs_rigid.max_position_gap <= 1e-9 ? "" : "NOT ")
         << "identical (max gap " << fmt(ev.rigid_vs_rigid.max_position_gap) << " m, bar 1e-9 m).";
     out << " The rigid simulator's own sensitivity: the rigid reference with its mass and principal "
-           "moments scaled by 1 + "
+           "moments (and its copies') scaled by 1 + "
         << fmt(ev.rigid_perturbation) << " (the largest relative difference between the two objects' "
-           "rigid inputs), its centre of mass moved as far as theirs differ and its principal axes "
-           "turned by "
+           "rigid inputs before the twins round them to a grid of 2^-24), its centre of mass moved as "
+           "far as theirs differ and its principal axes turned by "
         << fmt(ev.rigid_axes_turn) << " rad (as theirs are) strays up to "
-        << fmt(ev.rigid_sensitivity.max_position_gap) << " m from itself"
+        << fmt(ev.rigid_sensitivity.max_position_gap) << " m from itself (the twins' gap without the rounding)"
         << (ev.rigid_vs_rigid.max_position_gap > 1e-9 &&
                     ev.rigid_vs_rigid.max_position_gap <= 10 * ev.rigid_sensitivity.max_position_gap
                 ? ": the twins' gap is of that order, Bullet amplifying round-off in its inputs, "

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -23,9 +24,18 @@ Eigen::Vector3d canonical_sign(Eigen::Vector3d v) {
   return v[i] < 0 ? Eigen::Vector3d(-v) : v;
 }
 
+// x rounded to a multiple of 2^(ilogb(scale) - bits): a power of two, so that the rounding is
+// exact; 0 bits leave x as it is.
+double round_to_grid(double x, double scale, int bits) {
+  if (bits <= 0 || !(scale > 0) || !std::isfinite(scale)) return x;
+  const double cell = std::ldexp(1.0, std::ilogb(scale) - bits);
+  return std::round(x / cell) * cell;
+}
+
 }  // namespace
 
-RigidMassProperties rigid_mass_properties(const Moments& moments, double degenerate_tolerance) {
+RigidMassProperties rigid_mass_properties(const Moments& moments, double degenerate_tolerance,
+                                          int grid_bits) {
   RigidMassProperties p;
   p.mass = moments.m0;
   p.centre = moments.centre_of_mass();
@@ -57,9 +67,30 @@ RigidMassProperties rigid_mass_properties(const Moments& moments, double degener
     for (int k = 0; k < 3; ++k) A.col(k) = canonical_sign(eig.eigenvectors().col(k));
   }
   if (A.determinant() < 0) A.col(2) *= -1.0;
+  // Two objects with the same moments up to round-off (an attack's object and its reference, or
+  // their copies in a stack) must hand Bullet the same numbers: a resting stack of cubes turns a
+  // 1e-16 m difference in one copy's centre into 0.5 m at the end of the cube stack demo (its
+  // calibrated twins). So every value is rounded to a power-of-two grid 2^-grid_bits of its own
+  // scale (the radius of gyration for the centre), and the rounded axes made orthonormal again;
+  // values a grid apart stay apart, which is what rbaa evaluate's sensitivity run measures.
+  if (grid_bits > 0) {
+    p.mass = round_to_grid(p.mass, std::abs(p.mass), grid_bits);
+    const double gyration = std::sqrt(lambda.cwiseAbs().maxCoeff() / std::abs(p.mass));
+    for (int k = 0; k < 3; ++k) p.centre[k] = round_to_grid(p.centre[k], gyration, grid_bits);
+    for (int k = 0; k < 3; ++k) {
+      for (int i = 0; i < 3; ++i) A(i, k) = round_to_grid(A(i, k), 1.0, grid_bits);
+    }
+    A.col(0).normalize();
+    A.col(1) = (A.col(1) - A.col(0).dot(A.col(1)) * A.col(0)).normalized();
+    A.col(2) = A.col(0).cross(A.col(1));
+  }
   p.principal_axes = A;
   // The principal moments in that basis (off-diagonals are round-off when the moments are equal).
   p.principal_moments = (A.transpose() * I * A).diagonal();
+  for (int k = 0; k < 3; ++k) {
+    p.principal_moments[k] =
+        round_to_grid(p.principal_moments[k], std::abs(p.principal_moments[k]), grid_bits);
+  }
   return p;
 }
 
@@ -87,21 +118,51 @@ namespace {
 // ball's sphere fit fail, so it became a hull while the reference was a sphere: 5 cm apart in
 // Bullet). Sorting makes the hull's point order, and so Bullet's tie-breaking between equal
 // support points, independent of how the mesh numbers its vertices.
+//
+// Two objects with the same surface up to round-off (a reference and an attack's object placed
+// by another sequence of turns and moves) must get bit-identical points: btConvexHullComputer
+// works on integers, each coordinate truncated to 1/10216 of the points' extent from the middle
+// of their bounding box, and the extreme points sit exactly on a cell boundary there, so the last
+// bits decide their cell. Its output vertices are those integers scaled back (up to half a cell
+// off the surface: 2.4e-5 m on the hoop's ball) and points in one cell merge, so one flipped cell
+// moved the sphere fitted through them by 1e-7 m and put the hoop's twins 1e-6 m apart; a turned
+// cube's hull got 41 vertices in place of 37 (an attack's turned twin and the reference 2 m
+// apart at the backboard). So the surface vertices are first rounded to a grid of about 6e-8 of
+// their extent (a power of two: the rounding is exact), which makes round-off twins equal unless
+// a coordinate lies within its round-off of a half cell, and the hull's vertices are taken from
+// those rounded points by index, not from the integers. Bullet still quantises the hull when it
+// builds its polyhedral features (initializePolyhedralFeatures), but now of equal inputs.
 Vertices hull_vertices(const TetMesh& mesh) {
   const std::vector<int> surface = boundary_vertices(mesh);
-  std::vector<double> coords;
-  coords.reserve(3 * surface.size());
-  for (int v : surface) {
-    for (int c = 0; c < 3; ++c) coords.push_back(mesh.V(v, c));
+  if (surface.empty()) throw InputError("rigid shape: the mesh has no surface");
+  Vertices S(static_cast<Eigen::Index>(surface.size()), 3);
+  for (size_t i = 0; i < surface.size(); ++i)
+    S.row(static_cast<Eigen::Index>(i)) = mesh.V.row(surface[i]);
+  const Eigen::RowVector3d lo = S.colwise().minCoeff(), hi = S.colwise().maxCoeff();
+  const double extent = (hi - lo).norm();
+  if (!(extent > 0) || !std::isfinite(extent)) {
+    throw InputError("rigid shape: the surface's bounding box has no finite positive diagonal (" +
+                     std::to_string(extent) + " m)");
   }
+  const double cell = std::ldexp(1.0, std::ilogb(extent) - 24);
+  std::vector<std::array<double, 3>> rounded;
+  rounded.reserve(surface.size());
+  for (Eigen::Index i = 0; i < S.rows(); ++i) {
+    rounded.push_back({std::round(S(i, 0) / cell) * cell, std::round(S(i, 1) / cell) * cell,
+                       std::round(S(i, 2) / cell) * cell});
+  }
+  // Sorted and without repeats, so that the hull computer's input depends on the point set only.
+  std::sort(rounded.begin(), rounded.end());
+  rounded.erase(std::unique(rounded.begin(), rounded.end()), rounded.end());
   btConvexHullComputer hull;
-  hull.compute(coords.data(), 3 * static_cast<int>(sizeof(double)),
-               static_cast<int>(surface.size()), 0.0, 0.0);
+  hull.compute(rounded.data()->data(), 3 * static_cast<int>(sizeof(double)),
+               static_cast<int>(rounded.size()), 0.0, 0.0);
   std::vector<std::array<double, 3>> points;
-  for (int i = 0; i < hull.vertices.size(); ++i) {
-    points.push_back({hull.vertices[i].x(), hull.vertices[i].y(), hull.vertices[i].z()});
+  for (int i = 0; i < hull.original_vertex_index.size(); ++i) {
+    points.push_back(rounded.at(static_cast<size_t>(hull.original_vertex_index[i])));
   }
   std::sort(points.begin(), points.end());
+  points.erase(std::unique(points.begin(), points.end()), points.end());
   Vertices P(static_cast<Eigen::Index>(points.size()), 3);
   for (size_t i = 0; i < points.size(); ++i)
     P.row(static_cast<Eigen::Index>(i)) << points[i][0], points[i][1], points[i][2];

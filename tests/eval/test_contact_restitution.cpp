@@ -196,8 +196,10 @@ TEST(ContactRestitution, TheRigidSensitivityRunIsTheReferenceTwinPerturbedAsTheO
               ev.rigid_sensitivity.max_position_gap);
   EXPECT_NEAR(ev.rigid_perturbation, 1e-3, 1e-12);
   EXPECT_GT(ev.rigid_vs_rigid.max_position_gap, 1e-6);
+  // Equal up to the twins' rounding (rigid_mass_properties: 2^-24 of each value, against the
+  // 1e-3 scaling: 6e-5 of the gap).
   EXPECT_NEAR(ev.rigid_sensitivity.max_position_gap, ev.rigid_vs_rigid.max_position_gap,
-              1e-9 + 1e-6 * ev.rigid_vs_rigid.max_position_gap);
+              1e-9 + 1e-4 * ev.rigid_vs_rigid.max_position_gap);
   // The same object as its own adversary: nothing to perturb but the floor of 1e-15.
   const Evaluation same = evaluate(scene, mesh, mesh, MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1000, 1.0), options);
   EXPECT_EQ(same.rigid_perturbation, 1e-15);

@@ -155,8 +155,9 @@ TEST(RigidBodies, StackedBodiesGetTheirOwnMassAndCollideElastically) {
   ASSERT_EQ(world.bodies.size(), 2u);
   const RigidBody &light = world.bodies[0], &heavy = world.bodies[1];
   const Moments m = compute_moments(ball, 1000.0);
-  EXPECT_NEAR(light.mass.mass, m.m0, 1e-12 * m.m0);
-  EXPECT_NEAR(heavy.mass.mass, 3 * m.m0, 3e-12 * m.m0);
+  // Each mass on the twins' grid, 2^-24 of its scale (rigid_mass_properties).
+  EXPECT_NEAR(light.mass.mass, m.m0, std::ldexp(m.m0, -24));
+  EXPECT_NEAR(heavy.mass.mass, 3 * m.m0, std::ldexp(3 * m.m0, -24));
   EXPECT_LT((heavy.mass.centre - light.mass.centre - Eigen::Vector3d(0.5, 0, 0)).norm(), 1e-12);
   EXPECT_EQ(heavy.name, "'heavy'");
   EXPECT_TRUE(heavy.velocity == Eigen::Vector3d(-1, 0, 0));

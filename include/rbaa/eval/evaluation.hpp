@@ -143,9 +143,12 @@ struct Evaluation {
   /// as much as the adversarial's lies from the reference's and its principal axes turned by
   /// rigid_axes_turn; rigid_perturbation is the largest relative difference between
   /// the adversarial's and the reference's rigid inputs (mass, centre over the radius of
-  /// gyration, principal moments; at least 1e-15), against the rigid reference. Where obstacle
-  /// meshes switch contacts discontinuously Bullet amplifies round-off in its inputs; when
-  /// rigid_vs_rigid is no larger than this, the twins' gap is that amplification, not the objects.
+  /// gyration, principal moments; at least 1e-15; the values before the twins' rounding to a
+  /// grid, rigid_mass_properties), against the rigid reference; copies of the object
+  /// (demonstration.object_copies) are perturbed alike. The twins themselves get bit-identical
+  /// inputs when the objects agree to well within that grid, so this is the gap the rounding
+  /// spares them: how far Bullet amplifies differences of the adversarial's size (a resting stack
+  /// of cubes far, a ball in flight hardly).
   double rigid_perturbation = 0;
   /// The angle between the two objects' principal axes (rad), by which the sensitivity run also
   /// turns the reference twin's axes.

@@ -24,9 +24,13 @@ struct RigidMassProperties {
 /// Mass, centre, and the eigen-decomposition of m2 moved to the centre (parallel-axis shift).
 /// Principal moments equal within `degenerate_tolerance` (relative) get a canonical basis built
 /// from the mesh axes (identity when all three are equal), and every axis a canonical sign, so
-/// that objects with equal inertia get the same frame.
+/// that objects with equal inertia get the same frame. With `grid_bits` > 0 the mass, each
+/// principal moment, each coordinate of the centre (on the radius of gyration's scale) and each
+/// entry of the axes (then made orthonormal again) are rounded to a power-of-two grid of
+/// 2^-grid_bits of their scale (6e-8 at 24), so that objects whose moments agree to round-off get
+/// bit-identical rigid twins; 0 gives the values as computed.
 RigidMassProperties rigid_mass_properties(const Moments& moments,
-                                          double degenerate_tolerance = 1e-8);
+                                          double degenerate_tolerance = 1e-8, int grid_bits = 24);
 
 /// The collision shape handed to the rigid simulator.
 enum class RigidShapeKind { kSphere, kBox, kConvexHull };
@@ -36,8 +40,8 @@ struct RigidShape {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();        ///< sphere/box centre, mesh frame (m)
   double radius = 0;                                       ///< sphere (m)
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();  ///< axis-aligned box (m)
-  Vertices points;  ///< convex hull: its vertices (extreme surface vertices, sorted), mesh frame
-                    ///< (#P by 3)
+  Vertices points;  ///< convex hull: its vertices (extreme surface vertices, rounded to the
+                    ///< surface's grid, sorted), mesh frame (#P by 3)
 
   std::string describe() const;
 };
@@ -46,6 +50,9 @@ struct RigidShape {
 /// lies on one sphere within `sphere_tolerance` of the size (a meshed sphere's vertices sit on
 /// facets of the polyhedron CGAL was given, ~1e-4 inside), an analytic box when the surface is an
 /// axis-aligned box (within `box_tolerance`), otherwise the convex hull of the surface vertices.
+/// All three are fitted to the extreme surface vertices rounded to a grid of at most 6e-8 of the
+/// surface's extent, so that two surfaces equal up to round-off (the same object placed by other
+/// turns) get bit-identical shapes, whose rigid twins then stay identical.
 /// Against half-space obstacles the hull is exact: a plane first touches a body at a hull vertex.
 /// Against triangle-mesh obstacles it is exact only for convex bodies: an obstacle's edge can reach
 /// into a dent of a concave body, which the hull fills in.
