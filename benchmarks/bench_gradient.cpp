@@ -80,6 +80,7 @@ void BM_GradientStored(benchmark::State& state, SceneFixture* f) {
   const rbaa::TrajectoryEvaluation& e = f->stored->last();
   state.counters["forward_s"] = e.forward_seconds;
   state.counters["backward_s"] = e.adjoint_seconds;
+  state.counters["objective_s"] = e.objective_seconds;
   state.counters["bwd_step_s"] = e.adjoint_seconds / std::max(1, e.adjoint.steps);
   state.counters["bwd_solve_s"] = e.adjoint.solve_seconds;
   state.counters["bwd_param_s"] = e.adjoint.parameter_seconds;
@@ -138,6 +139,18 @@ int main(int argc, char** argv) {
     std::printf("%-6s %9.3f %9.3f %9.3f %12.3f %9.2f %12.3f %12.3f %9.3f\n", n.c_str(), fwd, gs,
                 gs / fwd, bwd_step * 1e3, factor * 1e3, factor > 0 ? bwd_step / factor : 0.0, gr,
                 gr / fwd);
+  }
+  // The same ratio inside one gradient evaluation (its forward, objective and adjoint times): the
+  // columns above compare two benchmark runs, which a shared host slows unevenly (the cube read
+  // 0.86, 1.10 and 1.26 in three runs of one build).
+  std::printf("\ngrad/fwd within one evaluation: (forward + objective + adjoint) / forward\n");
+  for (const auto& f : fixtures) {
+    const std::string p = "GradientStored/" + f->name;
+    const double fwd = reporter.counter(p, "forward_s");
+    if (fwd <= 0) continue;
+    std::printf("%-6s %9.3f  (%.3f + %.3f + %.3f s)\n", f->name.c_str(),
+                (fwd + reporter.counter(p, "objective_s") + reporter.counter(p, "backward_s")) / fwd, fwd,
+                reporter.counter(p, "objective_s"), reporter.counter(p, "backward_s"));
   }
   std::printf("\nforward time split (s): gradients, Hessian assembly, factorisations, solves, "
               "line search, rest\n");
