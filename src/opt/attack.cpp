@@ -157,8 +157,9 @@ MaterialField inside_bounds(MaterialField m, const DesignSpace& design) {
 }
 
 // The polish stage: rounding and the connectivity repair change the design the loop found (the
-// ball's 50-iteration design lost 85 % of its gap to them: its near-void elements tethered dense
-// islands that the repair joins to the shell). With the occupancy now fixed, a few more Adam
+// ball's 50-iteration design lost 85 % of its gap to them: pieces of its shell cut loose under it,
+// hinged on edges and vertices, that the repair joins; attack.occupancy_penalty.repair_in_loop
+// keeps them joined during the loop). With the occupancy now fixed, a few more Adam
 // iterations on Y, nu and rho of the solid object, moments projected as in the main loop, recover
 // what these fields can. The polished object replaces the post-processed one only if its gap is
 // larger.

@@ -208,8 +208,14 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
       Eigen::VectorXd g;
       occupancy_penalty = options.occupancy->value(theta, grey_on ? &g : nullptr);
       if (grey_on) gradient += (occupancy_weight * po.weight) * g;
-      repair_share = options.occupancy->repair_share(theta, repair_on ? &g : nullptr, &components);
-      if (repair_on) gradient += (occupancy_weight * po.connectivity_weight) * g;
+      // The repair's search only where it is used; the components alone otherwise (R reads 0).
+      if (po.connectivity_weight > 0 || po.repair_in_loop) {
+        repair_share =
+            options.occupancy->repair_share(theta, repair_on ? &g : nullptr, &components);
+        if (repair_on) gradient += (occupancy_weight * po.connectivity_weight) * g;
+      } else {
+        components = options.occupancy->components(theta);
+      }
       grey_fraction = options.occupancy->grey_fraction(theta);
     }
     // The smoothing acts on the whole occupancy gradient (SPEC section 4): a symmetric positive

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rbaa/error.hpp"
+#include "rbaa/mesh/topology.hpp"
 #include "rbaa/opt/occupancy.hpp"
 
 namespace rbaa {
@@ -36,6 +37,7 @@ OccupancyPenalty::OccupancyPenalty(const TetMesh& mesh, const DesignSpace& desig
   }
   if (!design.optimises(DesignField::kAlpha) || design.num_interior() == 0) return;
   mesh_ = mesh;
+  adjacency_ = face_adjacency(mesh);
   const Eigen::VectorXd volume = tet_volumes(mesh);
   weights_.resize(design.num_interior());
   for (int i = 0; i < design.num_interior(); ++i) weights_[i] = volume[design.interior()[i]];
@@ -95,6 +97,18 @@ double OccupancyPenalty::repair_share(const Eigen::VectorXd& theta, Eigen::Vecto
       (*gradient)[o + i] = -weights_[i] * map.derivative(theta[o + i]) / (1.0 - alpha_min);
   }
   return R;
+}
+
+int OccupancyPenalty::components(const Eigen::VectorXd& theta) const {
+  if (theta.size() != design_.size())
+    throw InputError("occupancy penalty: design vector of wrong size");
+  if (weights_.size() == 0) return 1;
+  const MaterialField m = design_.to_material(theta);
+  const Eigen::VectorXd rounded = round_occupancy(m.alpha, design_.boundary(), threshold_);
+  std::vector<char> occupied(design_.num_tets(), 0);
+  for (int e = 0; e < design_.num_tets(); ++e) occupied[e] = rounded[e] == 1.0;
+  std::vector<int> label;
+  return label_components(adjacency_, occupied, label);
 }
 
 int OccupancyPenalty::fill_repair_paths(Eigen::VectorXd& theta) const {

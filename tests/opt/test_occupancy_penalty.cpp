@@ -159,6 +159,7 @@ TEST(OccupancyPenalty, RepairShareFillsThePathsTheRepairWouldFill) {
   int components = 0;
   const double R = penalty.repair_share(theta, &g, &components);
   EXPECT_EQ(components, report.components_before);
+  EXPECT_EQ(penalty.components(theta), report.components_before);  // the same count, no search
   EXPECT_NEAR(R, expected / interior_volume, 1e-12);
   int pushed = 0;
   for (int i = 0; i < design.num_interior(); ++i) pushed += g[o + i] < 0;

@@ -44,7 +44,8 @@ struct ProgressRow {
   double seconds = 0;       ///< wall time of the iteration
   /// The occupancy penalty (occupancy_penalty.hpp): w_k this iteration (the ramp times the
   /// largest |trajectory term| so far: the objective's units), the greyness P in [0, 1], the
-  /// repair term R, the face-connected components of the rounded occupancy, and the share of
+  /// repair term R (0 unless connectivity_weight > 0 or repair_in_loop: it costs the repair's
+  /// search), the face-connected components of the rounded occupancy, and the share of
   /// interior volume with 0.05 < alpha < 0.95 (all 0 without alpha in the design or without a
   /// penalty). `objective`
   /// leaves the penalty out: it compares designs across iterations, and w_k changes with k.

@@ -91,6 +91,10 @@ class OccupancyPenalty {
   /// occupancy (1: the repair has nothing to do).
   double repair_share(const Eigen::VectorXd& theta, Eigen::VectorXd* gradient = nullptr,
                       int* components = nullptr) const;
+  /// The number of face-connected components of the rounded occupancy (held elements solid),
+  /// without the repair's search: cheap, and it never throws on a mesh that is not itself
+  /// face-connected.
+  int components(const Eigen::VectorXd& theta) const;
   /// Sets theta of the elements the repair would fill in the rounded design to alpha =
   /// (1 + t) / 2, halfway between the threshold and solid; returns how many it set. Moments are
   /// the caller's (retract_onto_moments).
@@ -104,6 +108,7 @@ class OccupancyPenalty {
   double threshold_ = 0.5;
   Eigen::VectorXd weights_;  ///< #interior: V_i / sum V (empty without alpha)
   TetMesh mesh_;
+  Tets adjacency_;  ///< face neighbours (topology.hpp)
 };
 
 }  // namespace rbaa
