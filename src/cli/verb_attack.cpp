@@ -59,9 +59,10 @@ int run_attack_verb() {
     eta.add(row, total);
     std::fprintf(stderr,
                  "iter %4d/%d  objective %+.6e  gap %.4e m  com gap %.4e m  moment residual %.2e  "
-                 "%6.2f s/iter  ETA %s\n",
+                 "grey %.3f  components %d  %6.2f s/iter  ETA %s\n",
                  row.iteration + 1, total, row.objective, row.gap, row.com_gap,
-                 row.max_moment_residual, row.seconds, duration_text(eta.seconds_left()).c_str());
+                 row.max_moment_residual, row.grey_fraction, row.components, row.seconds,
+                 duration_text(eta.seconds_left()).c_str());
   };
   const rbaa::AttackResult result = rbaa::run_attack(scene, options);
   rbaa::write_attack_outputs(result, scene, FLAGS_out);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -156,8 +157,9 @@ MaterialField inside_bounds(MaterialField m, const DesignSpace& design) {
 }
 
 // The polish stage: rounding and the connectivity repair change the design the loop found (the
-// ball's 50-iteration design lost 85 % of its gap to them: its near-void elements tethered dense
-// islands that the repair joins to the shell). With the occupancy now fixed, a few more Adam
+// ball's 50-iteration design lost 85 % of its gap to them: pieces of its shell cut loose under it,
+// hinged on edges and vertices, that the repair joins; attack.occupancy_penalty.repair_in_loop
+// keeps them joined during the loop). With the occupancy now fixed, a few more Adam
 // iterations on Y, nu and rho of the solid object, moments projected as in the main loop, recover
 // what these fields can. The polished object replaces the post-processed one only if its gap is
 // larger.
@@ -350,7 +352,18 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
       },
       &scored_com);
 
-  const AttackLoopOptions loop = attack_loop_options(scene, options, "");
+  // The occupancy penalty's P and grey fraction are reported whenever alpha is designed; its
+  // term joins the descent only with attack.occupancy_penalty.weight > 0.
+  std::unique_ptr<OccupancyPenalty> occupancy;
+  if (design.optimises(DesignField::kAlpha)) {
+    occupancy = std::make_unique<OccupancyPenalty>(
+        r.mesh, design, scene.round_threshold,
+        OccupancyPenaltyOptions{scene.occupancy_weight, scene.occupancy_connectivity_weight,
+                                scene.occupancy_ramp_start, scene.occupancy_ramp_end,
+                                scene.occupancy_repair_in_loop});
+  }
+  AttackLoopOptions loop = attack_loop_options(scene, options, "");
+  loop.occupancy = occupancy.get();
   const Eigen::VectorXd theta0 = design.initial_theta(true);
   stage("optimising (" + std::to_string(scene.iterations) + " iterations, " + std::to_string(design.size()) +
         " design variables)");
@@ -407,6 +420,12 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   r.continuous = design.to_material(r.loop.theta);
   if (r.loop.failed_theta.size() > 0) r.failed = design.to_material(r.loop.failed_theta);
   r.continuous_max_residual = moments.residuals(r.loop.theta).cwiseAbs().maxCoeff();
+  if (occupancy) {
+    r.occupancy_penalty_continuous = occupancy->value(r.loop.theta);
+    r.grey_fraction_continuous = occupancy->grey_fraction(r.loop.theta);
+    r.repair_share_continuous =
+        occupancy->repair_share(r.loop.theta, nullptr, &r.components_continuous);
+  }
 
   // The optimised design is written before post-processing, which can fail (a density re-fit that
   // cannot match the moments with the rounded occupancy): hours of iterations are never lost to it.
@@ -489,6 +508,12 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
         {"alpha0", scene.alpha0},
         {"smoothing_gamma", scene.smoothing_gamma},
         {"round_threshold", scene.round_threshold},
+        {"occupancy_penalty",
+         {{"weight", scene.occupancy_weight},
+          {"connectivity_weight", scene.occupancy_connectivity_weight},
+          {"ramp_start", scene.occupancy_ramp_start},
+          {"ramp_end", scene.occupancy_ramp_end},
+          {"repair_in_loop", scene.occupancy_repair_in_loop}}},
         {"project_moments", scene.project_moments},
         {"polish_iterations", scene.polish_iterations},
         {"time_step", scene.time_step},
@@ -537,6 +562,10 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
       {"loop", {{"kept_iteration", r.kept_iteration}}},
       {"occupancy",
        {{"void_fraction", r.post.void_fraction},
+        {"penalty_continuous", r.occupancy_penalty_continuous},
+        {"grey_fraction_continuous", r.grey_fraction_continuous},
+        {"repair_share_continuous", r.repair_share_continuous},
+        {"components_continuous", r.components_continuous},
         {"components",
          {{"before", r.post.connectivity.components_before},
           {"after", r.post.connectivity.components_after}}},

@@ -4,7 +4,9 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -23,8 +25,11 @@ Eigen::VectorXd vector_from(const nlohmann::json& j) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
 
-const char* kProgressColumns[] = {"iteration", "objective", "trajectory_term", "moment_term", "gap_m",
-                                  "com_gap_m", "max_moment_residual", "seconds"};
+// `seconds` stays last: it is the one column that differs between equal runs.
+const char* kProgressColumns[] = {
+    "iteration",  "objective",           "trajectory_term",  "moment_term",       "gap_m",
+    "com_gap_m",  "max_moment_residual", "occupancy_weight", "occupancy_penalty", "repair_share",
+    "components", "grey_fraction",       "seconds"};
 
 }  // namespace
 
@@ -32,7 +37,8 @@ void save_checkpoint(const std::string& path, const AttackCheckpoint& c) {
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& r : c.progress) {
     rows.push_back({r.iteration, r.objective, r.trajectory_term, r.moment_term, r.gap, r.com_gap,
-                    r.max_moment_residual, r.seconds});
+                    r.max_moment_residual, r.seconds, r.occupancy_weight, r.occupancy_penalty,
+                    r.repair_share, r.components, r.grey_fraction});
   }
   const nlohmann::json j = {{"format", "rbaa-attack-checkpoint-1"},
                             {"fingerprint", c.fingerprint},
@@ -66,8 +72,18 @@ AttackCheckpoint load_checkpoint(const std::string& path, const std::string& exp
     c.adam.v = vector_from(j.at("adam").at("v"));
     c.adam.steps = j.at("adam").at("steps").get<std::int64_t>();
     for (const auto& r : j.at("progress")) {
-      c.progress.push_back({r.at(0).get<int>(), r.at(1).get<double>(), r.at(2).get<double>(), r.at(3).get<double>(),
-                            r.at(4).get<double>(), r.at(5).get<double>(), r.at(6).get<double>(), r.at(7).get<double>()});
+      ProgressRow row{r.at(0).get<int>(),    r.at(1).get<double>(), r.at(2).get<double>(),
+                      r.at(3).get<double>(), r.at(4).get<double>(), r.at(5).get<double>(),
+                      r.at(6).get<double>(), r.at(7).get<double>()};
+      // Rows of older checkpoints end at `seconds`.
+      if (r.size() >= 13) {
+        row.occupancy_weight = r.at(8).get<double>();
+        row.occupancy_penalty = r.at(9).get<double>();
+        row.repair_share = r.at(10).get<double>();
+        row.components = r.at(11).get<int>();
+        row.grey_fraction = r.at(12).get<double>();
+      }
+      c.progress.push_back(row);
     }
     c.forward_seconds = j.at("forward_seconds").get<double>();
     c.adjoint_seconds = j.at("adjoint_seconds").get<double>();
@@ -100,7 +116,9 @@ void write_progress_csv(const std::string& path, const std::vector<ProgressRow>&
     for (const auto& r : rows) {
       out << r.iteration << ',' << exact(r.objective) << ',' << exact(r.trajectory_term) << ','
           << exact(r.moment_term) << ',' << exact(r.gap) << ',' << exact(r.com_gap) << ','
-          << exact(r.max_moment_residual) << ',' << exact(r.seconds) << "\n";
+          << exact(r.max_moment_residual) << ',' << exact(r.occupancy_weight) << ','
+          << exact(r.occupancy_penalty) << ',' << exact(r.repair_share) << ',' << r.components
+          << ',' << exact(r.grey_fraction) << ',' << exact(r.seconds) << "\n";
     }
   });
 }
@@ -172,6 +190,34 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     evaluated = theta;
     const double moment_term = moments.penalty(theta, options.beta, &grad_moment);
     Eigen::VectorXd gradient = grad_traj + grad_moment;
+    // The occupancy penalty's continuation: w_k (weight P + connectivity_weight R) joins the
+    // gradient before the smoothing and the tangent projection, so pushing alpha to its ends moves
+    // rho with it (rho alpha is the mass density) and the moments stay matched.
+    double occupancy_weight = 0, occupancy_penalty = 0, repair_share = 0, grey_fraction = 0;
+    int components = 0;
+    if (options.occupancy) {
+      const OccupancyPenaltyOptions& po = options.occupancy->options();
+      // Scaled by the largest trajectory term so far (occupancy_penalty.hpp): the rows hold it,
+      // so a resumed run weighs exactly as an uninterrupted one.
+      double scale = std::abs(traj.value);
+      for (const ProgressRow& r : result.progress)
+        scale = std::max(scale, std::abs(r.trajectory_term));
+      occupancy_weight = scale * occupancy_penalty_ramp(po, k, options.iterations);
+      const bool grey_on = occupancy_weight > 0 && po.weight > 0;
+      const bool repair_on = occupancy_weight > 0 && po.connectivity_weight > 0;
+      Eigen::VectorXd g;
+      occupancy_penalty = options.occupancy->value(theta, grey_on ? &g : nullptr);
+      if (grey_on) gradient += (occupancy_weight * po.weight) * g;
+      // The repair's search only where it is used; the components alone otherwise (R reads 0).
+      if (po.connectivity_weight > 0 || po.repair_in_loop) {
+        repair_share =
+            options.occupancy->repair_share(theta, repair_on ? &g : nullptr, &components);
+        if (repair_on) gradient += (occupancy_weight * po.connectivity_weight) * g;
+      } else {
+        components = options.occupancy->components(theta);
+      }
+      grey_fraction = options.occupancy->grey_fraction(theta);
+    }
     // The smoothing acts on the whole occupancy gradient (SPEC section 4): a symmetric positive
     // definite preconditioner M on the alpha block.
     const bool smooth = smoother && design.optimises(DesignField::kAlpha);
@@ -188,6 +234,11 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     row.gap = traj.gap;
     row.com_gap = traj.com_gap;
     row.max_moment_residual = moments.residuals(theta).cwiseAbs().maxCoeff();
+    row.occupancy_weight = occupancy_weight;
+    row.occupancy_penalty = occupancy_penalty;
+    row.repair_share = repair_share;
+    row.components = components;
+    row.grey_fraction = grey_fraction;
     if (result.best_iteration < 0 || row.objective < result.progress[result.best_iteration].objective) {
       result.best_iteration = k;
       result.best_theta = theta;
@@ -208,6 +259,15 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
       retract_onto_moments(moments, theta);
     } else {
       adam.step(theta, precondition(gradient));
+    }
+    // The repair's paths, filled after the step (occupancy_penalty.hpp): the next design's
+    // rounding is one body. The retraction that restores the moments moves alpha too and can
+    // take an element back below the threshold when much was filled at once: fill again, a few
+    // passes at most.
+    if (options.occupancy && options.occupancy->options().repair_in_loop) {
+      for (int pass = 0; pass < 4 && options.occupancy->fill_repair_paths(theta) > 0; ++pass) {
+        if (options.project_moments) retract_onto_moments(moments, theta);
+      }
     }
     row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     result.progress.push_back(row);

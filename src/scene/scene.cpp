@@ -601,6 +601,28 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
     s.smoothing_gamma = a.number("smoothing_gamma", s.smoothing_gamma, 0.0, inf);
     s.boundary_by_vertex = a.text("boundary", "faces", {"faces", "vertices"}) == "vertices";
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);
+    if (s.round_threshold <= s.alpha_min) {
+      a.fail(a.child("round_threshold"), "round_threshold",
+             "value " + std::to_string(s.round_threshold) +
+                 " must lie above material_bounds.alpha_min");
+    }
+    if (a.has("occupancy_penalty")) {
+      MapReader o(a.child("occupancy_penalty"), source, "attack.occupancy_penalty");
+      s.occupancy_weight = o.number("weight", s.occupancy_weight, 0.0, inf);
+      s.occupancy_connectivity_weight =
+          o.number("connectivity_weight", s.occupancy_connectivity_weight, 0.0, inf);
+      s.occupancy_ramp_start = o.number("ramp_start", s.occupancy_ramp_start, 0.0, 1.0);
+      s.occupancy_ramp_end = o.number("ramp_end", s.occupancy_ramp_end, 0.0, 1.0);
+      s.occupancy_repair_in_loop =
+          o.text("repair_in_loop", s.occupancy_repair_in_loop ? "true" : "false",
+                 {"true", "false"}) == "true";
+      if (s.occupancy_ramp_end < s.occupancy_ramp_start) {
+        o.fail(o.child("ramp_end"), "ramp_end",
+               "value " + std::to_string(s.occupancy_ramp_end) + " is below ramp_start (" +
+                   std::to_string(s.occupancy_ramp_start) + ")");
+      }
+      o.finish();
+    }
     s.project_moments = a.text("project_moments", "true", {"true", "false"}) == "true";
     s.polish_iterations = a.integer("polish_iterations", s.polish_iterations, 0, 1000000);
     s.refinement_factor = a.integer("refinement_factor", s.refinement_factor, 0, 64);

@@ -146,6 +146,13 @@ std::string scene_fingerprint_text(const Scene& s) {
   t << "attack.boundary " << (s.boundary_by_vertex ? "vertices" : "faces") << "\n";
   t << "attack.round_threshold " << number(s.round_threshold) << "\n";
   t << "attack.project_moments " << (s.project_moments ? "true" : "false") << "\n";
+  // The occupancy penalty prints only when on, so older fingerprints stay valid.
+  if (s.occupancy_weight > 0 || s.occupancy_connectivity_weight > 0 || s.occupancy_repair_in_loop) {
+    t << "attack.occupancy_penalty " << number(s.occupancy_weight) << " "
+      << number(s.occupancy_connectivity_weight) << " " << number(s.occupancy_ramp_start) << " "
+      << number(s.occupancy_ramp_end) << (s.occupancy_repair_in_loop ? " repair_in_loop" : "")
+      << "\n";
+  }
   // Only the non-default start prints, so older fingerprints stay valid.
   if (s.start_best_uniform) t << "attack.start best_uniform\n";
   // The attacked body and the objective print only when not the defaults, so older fingerprints

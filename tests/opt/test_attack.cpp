@@ -101,6 +101,12 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   EXPECT_EQ(report["moments"]["reference"].size(), 10u);
   EXPECT_EQ(report["moments"]["adversarial"].size(), 10u);
   EXPECT_TRUE(report["occupancy"].contains("void_fraction"));
+  // The occupancy penalty's figures of the continuous design, reported whether or not it is on.
+  for (const char* key : {"penalty_continuous", "grey_fraction_continuous", "repair_share_continuous",
+                          "components_continuous"}) {
+    EXPECT_TRUE(report["occupancy"].contains(key)) << key;
+  }
+  EXPECT_EQ(report["settings"]["occupancy_penalty"]["repair_in_loop"].get<bool>(), false);
   EXPECT_TRUE(report["materials"]["Y"].contains("min"));
   EXPECT_TRUE(report["timing"].contains("adjoint_s"));
   EXPECT_EQ(report["iterations"].get<int>(), 30);

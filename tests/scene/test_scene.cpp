@@ -227,6 +227,34 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: -1}\n", {"attack.polish_iterations"});
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: 2.5}\n", {"attack.polish_iterations", "whole number"});
   expect_error(std::string(kMinimal) + "attack: {refinement_factor: -2}\n", {"attack.refinement_factor"});
+  // The occupancy penalty: a weight and a ramp, each named in its one-line error.
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {weight: -1}}\n",
+               {"attack.occupancy_penalty.weight", "outside"});
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {weight: .nan}}\n",
+               {"attack.occupancy_penalty.weight", "not finite"});
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {connectivity_weight: -0.5}}\n",
+               {"attack.occupancy_penalty.connectivity_weight", "outside"});
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {ramp_start: 1.5}}\n",
+               {"attack.occupancy_penalty.ramp_start", "outside"});
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {ramp_start: 0.6, ramp_end: 0.4}}\n",
+               {"attack.occupancy_penalty.ramp_end", "below ramp_start"});
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {repair_in_loop: yes}}\n",
+               {"attack.occupancy_penalty.repair_in_loop", "'yes'"});
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {wieght: 1}}\n",
+               {"attack.occupancy_penalty.wieght", "unknown key"});
+  expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: 2}\n",
+               {"attack.occupancy_penalty", "expected a mapping"});
+  expect_error(std::string(kMinimal) + "material_bounds: {alpha_min: 0.5}\nattack: {round_threshold: 0.4}\n",
+               {"attack.round_threshold", "alpha_min"});
+  {
+    const Scene s = parse_scene(std::string(kMinimal) + "attack: {occupancy_penalty: {weight: 2, ramp_end: 0.5}}\n",
+                                "t.yaml", "");
+    EXPECT_EQ(s.occupancy_weight, 2.0);
+    EXPECT_EQ(s.occupancy_ramp_start, 0.2);
+    EXPECT_EQ(s.occupancy_ramp_end, 0.5);
+    EXPECT_EQ(parse_scene(kMinimal, "t.yaml", "").occupancy_weight, 0.0);  // off by default
+    EXPECT_EQ(parse_scene(kMinimal, "t.yaml", "", {"attack.occupancy_penalty={weight: 3}"}).occupancy_weight, 3.0);
+  }
   expect_error(std::string(kMinimal) + "attack: {refinement_factor: 1.5}\n", {"attack.refinement_factor", "whole number"});
   expect_error("mesh: {shape: cube, file: a.msh}\n", {"mesh", "exactly one of shape, surface, file"});
   expect_error("time: {step: 0.01}\n", {"mesh", "missing"});
@@ -271,7 +299,9 @@ TEST(Scene, FingerprintSeesEverySettingThatChangesAResult) {
         "attack.learning_rate=0.1", "attack.beta=1e3", "attack.adam_beta1=0.9", "attack.adam_beta2=0.99",
         "attack.seed=2", "attack.perturbation=0.2", "attack.alpha0=0.9", "attack.Y0=1e10", "attack.nu0=0.3",
         "attack.smoothing_gamma=2", "attack.boundary=vertices", "attack.round_threshold=0.4",
-        "attack.project_moments=false", "attack.start=best_uniform", "newton.rigid_predictor=false",
+        "attack.project_moments=false", "attack.start=best_uniform",
+        "attack.occupancy_penalty={weight: 1}", "attack.occupancy_penalty={connectivity_weight: 1}",
+        "attack.occupancy_penalty={repair_in_loop: true}", "newton.rigid_predictor=false",
         "newton.chord_start=false"}) {
     EXPECT_NE(scene_fingerprint(parse_scene(base, "a.yaml", "", {o})), fp) << o;
   }

@@ -68,6 +68,13 @@ struct AttackResult {
   Moments adversarial_moments;   ///< of the final solid object
   double max_normalized_residual = 0;  ///< final object vs reference
   double continuous_max_residual = 0;  ///< before the re-fit (continuous field)
+  /// The continuous design's greyness P (opt/occupancy_penalty.hpp) and share of interior volume
+  /// with 0.05 < alpha < 0.95 (0 without alpha in the design).
+  double occupancy_penalty_continuous = 0;
+  double grey_fraction_continuous = 0;
+  /// Its repair term R and the components of its rounded occupancy (what the repair joins).
+  double repair_share_continuous = 0;
+  int components_continuous = 0;
   AttackLoopResult loop;
   /// The polish stage (attack.polish_iterations): Adam on Y, nu, rho of the solid object.
   AttackLoopResult polish;

@@ -1,7 +1,8 @@
 #pragma once
-// The attack's optimisation loop: Adam on theta for C = C_traj(theta) + beta ||r(theta)||^2,
-// with the occupancy gradient smoothed, an atomic checkpoint after every iteration and exact
-// resumption from it.
+// The attack's optimisation loop: Adam on theta for C = C_traj(theta) + beta ||r(theta)||^2
+// (+ the occupancy penalty's terms, opt/occupancy_penalty.hpp, when one is given), with the
+// occupancy gradient smoothed, an atomic checkpoint after every iteration and exact resumption
+// from it.
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -14,6 +15,7 @@
 #include "rbaa/material/design_space.hpp"
 #include "rbaa/opt/adam.hpp"
 #include "rbaa/opt/moment_cost.hpp"
+#include "rbaa/opt/occupancy_penalty.hpp"
 
 namespace rbaa {
 
@@ -40,6 +42,18 @@ struct ProgressRow {
   double com_gap = 0;       ///< m
   double max_moment_residual = 0;  ///< max normalised |r| (moments about the reference centre)
   double seconds = 0;       ///< wall time of the iteration
+  /// The occupancy penalty (occupancy_penalty.hpp): w_k this iteration (the ramp times the
+  /// largest |trajectory term| so far: the objective's units), the greyness P in [0, 1], the
+  /// repair term R (0 unless connectivity_weight > 0 or repair_in_loop: it costs the repair's
+  /// search), the face-connected components of the rounded occupancy, and the share of
+  /// interior volume with 0.05 < alpha < 0.95 (all 0 without alpha in the design or without a
+  /// penalty). `objective`
+  /// leaves the penalty out: it compares designs across iterations, and w_k changes with k.
+  double occupancy_weight = 0;
+  double occupancy_penalty = 0;
+  double repair_share = 0;
+  int components = 0;
+  double grey_fraction = 0;
 };
 
 /// Everything needed to continue a run exactly where it stopped.
@@ -84,6 +98,10 @@ struct AttackLoopOptions {
   /// learning_rate in every entry) break the moments by 1e-2 and the loop spends its iterations
   /// restoring them.
   bool project_moments = true;
+  /// The occupancy penalty whose terms join the descent (its gradient goes through the
+  /// same smoothing, tangent projection and retraction as the rest), and whose P and grey
+  /// fraction progress rows report; null: none (rows report 0).
+  const OccupancyPenalty* occupancy = nullptr;
   /// Called after every iteration with its row and the number of iterations in all.
   std::function<void(const ProgressRow&, int)> on_iteration;
 };

@@ -270,6 +270,19 @@ struct Scene {
   double smoothing_gamma = 1.0;  ///< relative to the mean edge length squared
   bool boundary_by_vertex = false;  ///< fix elements with any boundary vertex (else: boundary face)
   double round_threshold = 0.5;
+  /// attack.occupancy_penalty: w_k (weight P + connectivity_weight R) joins the loop's objective,
+  /// P the volume-weighted greyness of interior alpha (peaking at round_threshold), R the
+  /// interior volume share of the void paths the connectivity repair would fill (their emptiness);
+  /// w_k = ramp * the largest |trajectory term| so far, ramp linear from 0 at a fraction
+  /// ramp_start of the iterations to 1 at ramp_end (opt/occupancy_penalty.hpp). Both weights 0:
+  /// off (P, R and the grey fraction are still reported).
+  double occupancy_weight = 0;
+  double occupancy_connectivity_weight = 0;
+  double occupancy_ramp_start = 0.2;
+  double occupancy_ramp_end = 0.8;
+  /// attack.occupancy_penalty.repair_in_loop: after every Adam step the elements the
+  /// connectivity repair would fill are set to alpha = (1 + round_threshold) / 2.
+  bool occupancy_repair_in_loop = false;
   bool project_moments = true;  ///< project Adam steps onto the moments' tangent (attack_loop.hpp)
   /// Adam iterations on Y, nu, rho of the rounded, connected, re-fitted object (attack.cpp's
   /// polish stage); 0 turns it off. Only when alpha is optimised (otherwise nothing is rounded).
