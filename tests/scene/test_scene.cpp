@@ -67,6 +67,7 @@ TEST(Scene, ShippedConfigsLoad) {
   EXPECT_EQ(accurate.contact_substeps, 1024);
   EXPECT_EQ(accurate.objective.kind, ObjectiveSpec::Kind::kAway);
   EXPECT_TRUE(accurate.start_best_uniform);
+  EXPECT_TRUE(accurate.occupancy_repair_in_loop);
 
   // And the bunny's: the scene of bunny.yaml with the same recipe.
   const Scene bunny_accurate = load_scene(kConfigs + "bunny_accurate.yaml");
