@@ -17,6 +17,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenblas0-pthread libopenblas-pthread-dev
   gnuplot-nox
+  python3                # scripts/outcome_table.py, make_obstacle_meshes.py and their tests
 )
 # A one-node Slurm for the real-engine test of `rbaa sweep --emit=slurm`
 # (scripts/slurm_localhost.sh; the test skips without it): installed in CI, or when asked.

@@ -48,7 +48,12 @@ def rows_of(name, directory):
     outcomes = report.get("outcomes")
     if not outcomes:
         fail(f"{path}: no 'outcomes' (not a demonstration: its config has no 'demonstration' block)")
-    runs = {(r["simulator"], r["object"]): r for r in outcomes["runs"]}
+    runs = {}
+    for i, r in enumerate(outcomes.get("runs") or []):
+        if not isinstance(r, dict) or "simulator" not in r or "object" not in r:
+            fail(f"{path}: outcomes.runs[{i}] has no 'simulator' and 'object' "
+                 "(not written by `rbaa evaluate`?)")
+        runs[(r["simulator"], r["object"])] = r
     step = report.get("time_step_s")
     strays = report.get("baseline_disagreement")
     twins = (report.get("rigid_vs_rigid") or {}).get("max_com_gap_m")
@@ -79,6 +84,8 @@ def main(argv):
             return 0
         elif "=" in arg and not arg.startswith("-"):
             name, directory = arg.split("=", 1)
+            if not name or not directory:
+                fail(f"'{arg}' needs a name and a directory (NAME=DIR)")
             pairs.append((name, directory))
         else:
             fail(f"unknown argument '{arg}' (NAME=DIR ... [--out=FILE])")

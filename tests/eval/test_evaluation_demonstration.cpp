@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -77,6 +78,31 @@ TEST(EvaluationDemonstration, EveryRunGetsItsPredicateAndFigureInTheReportAndSum
   std::stringstream text;
   text << md.rdbuf();
   EXPECT_NE(text.str().find("| deformable adversarial | true |"), std::string::npos) << text.str();
+
+  // Round trip: scripts/outcome_table.py reads this report as evaluate wrote it (its keys).
+  const std::string table = dir + "/table.md";
+  const std::string command = "python3 " RBAA_SOURCE_DIR "/scripts/outcome_table.py demo=" + dir +
+                              " --out=" + table;
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  std::ifstream tin(table);
+  std::string line;
+  int simulators = 0;
+  while (std::getline(tin, line)) {
+    for (const std::string simulator : {"rigid", "deformable"}) {
+      if (line.rfind("| demo | through_hoop | " + simulator + " | ", 0) != 0) continue;
+      ++simulators;
+      int yes = 0;
+      for (size_t at = line.find("**yes**"); at != std::string::npos;
+           at = line.find("**yes**", at + 1)) {
+        ++yes;
+      }
+      EXPECT_EQ(yes, 3) << line;  // reference, adversarial and soft control all pass through
+      EXPECT_NE(line.find(simulator == "rigid" ? "twins " : "h = 0.01 s, baseline strays "),
+                std::string::npos)
+          << line;
+    }
+  }
+  EXPECT_EQ(simulators, 2);
 }
 
 TEST(EvaluationDemonstration, AHoopTheBallMissesIsFalseForEveryRun) {
