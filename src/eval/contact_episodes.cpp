@@ -11,6 +11,7 @@
 #include "rbaa/contact/static_mesh_broad_phase.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/mesh/topology.hpp"
+#include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/vertex_plane.hpp"
 
 namespace rbaa {
@@ -215,6 +216,14 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
     }
   }
 
+  // A body's centre-of-mass velocity at grid position k (the whole mesh's for a run of one body).
+  auto com_velocity = [&](int b, int k) -> Eigen::Vector3d {
+    const Eigen::VectorXd& v = run.trajectory.velocity(frames[k]);
+    const Body& body = bodies[b];
+    return centre_of_mass(v.segment(3 * body.vertex_begin, 3 * body.num_vertices()),
+                          run.vertex_masses.segment(body.vertex_begin, body.num_vertices()));
+  };
+
   // Pick, per mesh, the track with the earliest contact; every body pair stands alone.
   std::vector<const PairTrack*> chosen;
   for (size_t m = 0; m < meshes.size(); ++m) {
@@ -237,9 +246,26 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
     e.body = t->body;
     e.other = t->other;
     e.first_step = t->first;
-    // The run of positions in contact from the first: up to the next one out of it, or the end.
-    const auto from = t->in_contact.begin() + t->first;
-    e.last_step = t->first + static_cast<int>(std::find(from, t->in_contact.end(), 0) - from) - 1;
+    // The run of positions in contact from the first: up to the next one out of it, or the end;
+    // then, as find_bounces does with planes, on through positions out of contact at which the
+    // pair still approaches along the episode's normal, to the end of its next run in contact
+    // (a tumbling body's next corner; at a fine step the corners are separate runs).
+    auto run_end = [&](int k) {
+      const auto from = t->in_contact.begin() + k;
+      return k + static_cast<int>(std::find(from, t->in_contact.end(), 0) - from) - 1;
+    };
+    e.last_step = run_end(t->first);
+    for (;;) {
+      int next = e.last_step + 1;
+      bool approaching = true;
+      for (; next < num_positions && !t->in_contact[next] && approaching; ++next) {
+        Eigen::Vector3d w = com_velocity(t->body, next);
+        if (t->kind == ContactEpisode::Kind::kBodies) w -= com_velocity(t->other, next);
+        approaching = w.dot(t->normal) <= 0;
+      }
+      if (!approaching || next >= num_positions) break;
+      e.last_step = run_end(next);
+    }
     e.complete = e.first_step > 0 && e.last_step + 1 < num_positions;
     e.out_step = std::min(e.last_step + 1, num_positions - 1);
     auto quiet = [&](int k) {

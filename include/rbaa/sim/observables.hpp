@@ -61,7 +61,10 @@ struct Bounce {
 
 /// Contact episodes of a trajectory, in time order. `distances[k][p]`: minimum distance of the
 /// surface to plane p at position k; `com_velocity[k]`: the centre of mass velocity at position
-/// k. The outgoing velocity is read `settle_steps` steps after the episode (fewer if another
+/// k. An episode runs from the first position within d_hat of a plane until the body is out of
+/// d_hat moving away from a plane it touched: contacts separated by positions at which it still
+/// approaches every plane it touched are one episode (one impact of several corners). The
+/// outgoing velocity is read `settle_steps` steps after the episode (fewer if another
 /// contact starts), minus the gravity of those steps: BDF-2's velocity needs a few steps to
 /// settle after a bounce.
 std::vector<Bounce> find_bounces(const std::vector<std::vector<double>>& distances,
