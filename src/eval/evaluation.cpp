@@ -222,49 +222,26 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
   return c;
 }
 
-namespace {
-
-// Quiet samples a rigid impact's episode bridges: three, and at steps finer than 10 ms as many as
-// fill 30 ms (three of the paper's steps, where three samples were measured to hold a non-round
-// body's corners together): Bullet's bunny at h = 1/6400 s leaves the floor at 0.4 m/s for four
-// samples between its first corner and the one that sends it up at 8 m/s.
-int bridged_samples(const std::vector<RigidState>& states) {
-  if (states.size() < 2) return 3;
-  const double h = states[1].time - states[0].time;
-  return h > 0 ? std::max(3, static_cast<int>(std::ceil(0.03 / h - 1e-9))) : 3;
-}
-
-}  // namespace
-
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
                            double gravity_speed_per_step) {
   // An impact changes the normal velocity by far more than gravity does in one step. A bounce of a
   // non-round body is often several impacts a few steps apart (it rocks onto another corner), so
-  // the episode runs from the first such jump to the last one followed by three quiet steps (30 ms
-  // at finer steps: bridged_samples) after which the body moves away from the plane (however many
-  // quiet steps a still approaching body takes to its next corner: find_bounces joins such
-  // contacts likewise), and the rebound
-  // compares the normal velocities before and after the whole episode, as the deformable bounce
-  // does with its contact steps.
+  // the episode runs from the first such jump to the last one followed by three quiet steps, and
+  // the rebound compares the normal velocities before and after the whole episode, as the
+  // deformable bounce does with its contact steps.
   auto jump = [&](size_t k) {
     const double in = states[k].velocity.dot(plane.normal);
     const double out = states[k + 1].velocity.dot(plane.normal);
     return std::abs(out - in) > 10 * gravity_speed_per_step + 1e-9 * std::abs(in);
   };
-  auto leaving = [&](size_t k) { return states[k].velocity.dot(plane.normal) > 0; };
   for (size_t k = 0; k + 1 < states.size(); ++k) {
     const double in = states[k].velocity.dot(plane.normal);
     if (!(in < 0) || !jump(k)) continue;
-    const size_t bridge = static_cast<size_t>(bridged_samples(states));
     size_t last = k;
-    size_t j = k + 1;
-    for (; j + 1 < states.size() && (j <= last + bridge || !leaving(last + 1)); ++j) {
+    for (size_t j = k + 1; j + 1 < states.size() && j <= last + 3; ++j) {
       if (jump(j)) last = j;
     }
-    if (j + 1 >= states.size() && !leaving(last + 1)) return std::nan("");  // never left the plane
-    if (last + bridge + 1 >= states.size() && last + 1 < states.size() - 1) {
-      return std::nan("");  // not over
-    }
+    if (last + 4 >= states.size() && last + 1 < states.size() - 1) return std::nan("");  // not over
     return -states[last + 1].velocity.dot(plane.normal) / in;
   }
   return std::nan("");
@@ -387,33 +364,19 @@ double episode_rebound(const Eigen::Vector3d& w_in, const Eigen::Vector3d& w_out
 }
 
 // The first episode of a pair in a rigid run's touches: the samples from its first touch to its
-// last with gaps of at most `bridge` samples bridged (a non-round body rocks onto another corner
-// a few steps later; bridged_samples), and longer gaps through which the pair still approaches
-// (`approaching(k)` at every sample k of the gap), as rigid_first_rebound and
-// first_contact_episodes do; {-1, -1}
-// if the pair never touched, still touches within `bridge` samples of the end, or approaches from
-// its last touch to the end.
-template <class Approaching>
+// last with gaps of at most three samples bridged (a non-round body rocks onto another corner a
+// few steps later), as rigid_first_rebound does; {-1, -1} if the pair never touched or still
+// touches within three samples of the end.
 std::pair<int, int> rigid_episode(const std::vector<RigidTouch>& touches, RigidContactSide first,
-                                  RigidContactSide second, int num_samples, int bridge,
-                                  Approaching&& approaching) {
+                                  RigidContactSide second, int num_samples) {
   std::vector<int> samples;
   for (const RigidTouch& t : touches) {
     if (t.first == first && t.second == second) samples.push_back(t.sample);
   }
   if (samples.empty()) return {-1, -1};
-  auto approaches_until = [&](int from, int to) {  // every sample in [from, to)
-    for (int k = from; k < to; ++k) {
-      if (!approaching(k)) return false;
-    }
-    return true;
-  };
   int last = samples[0];
-  for (size_t i = 1; i < samples.size(); ++i) {
-    if (samples[i] > last + bridge + 1 && !approaches_until(last + 1, samples[i])) break;
-    last = samples[i];
-  }
-  if (last + bridge + 1 >= num_samples || approaches_until(last + 1, num_samples)) return {-1, -1};
+  for (size_t i = 1; i < samples.size() && samples[i] <= last + 4; ++i) last = samples[i];
+  if (last + 4 >= num_samples) return {-1, -1};
   return {samples[0], last};
 }
 
@@ -503,15 +466,12 @@ RestitutionCalibration calibrate_contact_restitution(
     const auto states =
         simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
     const int num_samples = static_cast<int>(states.front().size());
+    const auto [n_first, n_last] = rigid_episode(touches, first, second, num_samples);
+    if (n_first < 1) return std::nan("");
     auto rigid_velocity = [&](int b, const PrescribedMotion* drive, int k) -> Eigen::Vector3d {
       if (drive) return drive->point_velocity(sides.material_point, states[b][k].time);
       return states[b][k].velocity;
     };
-    const auto [n_first, n_last] =
-        rigid_episode(touches, first, second, num_samples, bridged_samples(states[0]), [&](int k) {
-          return relative(rigid_velocity, k).dot(episode.normal) <= 0;
-        });
-    if (n_first < 1) return std::nan("");
     return episode_rebound(relative(rigid_velocity, n_first - 1), relative(rigid_velocity, n_last),
                            sides, scene.gravity, states[0][n_first - 1].time,
                            states[0][n_last].time);

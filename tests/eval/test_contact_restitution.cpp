@@ -350,46 +350,8 @@ TEST(ContactRestitution, ABadEpisodeIsOneLineNamingTheScene) {
   EXPECT_THROW(first_contact_episodes(run, {}, {}, 0.0), InputError);
 }
 
-// The twin's side of ContactsWhileStillApproachingAreOneImpact (tests/sim/test_observables.cpp):
-// a corner slows the body (-11.2 -> -0.8 m/s), six quiet samples later, still approaching, the
-// next corner sends it up (+8.2). One rebound across both, 8.2 / 11.2; read from the first jump
-// alone (three quiet samples ended it before) it was -0.8 / 11.2 < 0. A body that never turns
-// away again has no rebound. At h = 10 ms.
-TEST(RigidFirstRebound, JumpsWhileStillApproachingAreOneImpact) {
-  const Plane floor{Eigen::Vector3d::UnitZ(), 0.0};
-  std::vector<RigidState> states(20);
-  for (int k = 0; k < 20; ++k) {
-    states[k].time = 1e-2 * k;
-    states[k].velocity = Eigen::Vector3d(0.5, 0, k < 3 ? -11.2 : k < 10 ? -0.8 : 8.2);
-  }
-  EXPECT_NEAR(rigid_first_rebound(states, floor, 0.0), 8.2 / 11.2, 1e-15);
-  for (int k = 10; k < 20; ++k) states[k].velocity.z() = -0.8;
-  EXPECT_TRUE(std::isnan(rigid_first_rebound(states, floor, 0.0)));
-  // A plain bounce is read three quiet samples after its last jump, as before.
-  for (int k = 3; k < 20; ++k) states[k].velocity.z() = k < 5 ? 2.0 : 6.0;
-  EXPECT_NEAR(rigid_first_rebound(states, floor, 0.0), 6.0 / 11.2, 1e-15);
-  // A corner six samples (60 ms) later is another bounce (10 ms steps bridge three samples).
-  for (int k = 5; k < 20; ++k) states[k].velocity.z() = k < 9 ? 2.0 : 6.0;
-  EXPECT_NEAR(rigid_first_rebound(states, floor, 0.0), 2.0 / 11.2, 1e-15);
-}
-
-// Bullet's stiff bunny of configs/demos/bunny_bin.yaml at h = 1/6400 s (restitution 0.8): its
-// first corner leaves it rising at 0.41 m/s, four samples (0.6 ms) later the next sends it up at
-// 8.14 m/s. At fine steps the episode bridges 30 ms of quiet samples, not three: the rebound is
-// 8.14 / 11.21 (read per three samples it was 0.41 / 11.21, and no restitution up to 3 fitted the
-// deformable bunny's 0.73).
-TEST(RigidFirstRebound, CornersWithinThirtyMillisecondsAreOneImpactAtFineSteps) {
-  const Plane floor{Eigen::Vector3d::UnitZ(), 0.0};
-  const double h = 1.0 / 6400;
-  std::vector<RigidState> states(600);
-  for (size_t k = 0; k < states.size(); ++k) {
-    states[k].time = h * static_cast<double>(k);
-    states[k].velocity = Eigen::Vector3d(0, 0, k < 10 ? -11.21 : k < 14 ? 0.41 : 8.14);
-  }
-  EXPECT_NEAR(rigid_first_rebound(states, floor, 0.0), 8.14 / 11.21, 1e-15);
-}
-
-// The episode finder's side of the same (first_contact_episodes): one tet over a mesh floor,
+// Observables.ContactsWhileStillApproachingAreOneImpact for meshes and pairs of bodies
+// (first_contact_episodes): one tet over a mesh floor,
 // moved by hand at h = 1 ms. Vertices 0 and 1 are its "corners" (no mass): vertex 0 is within
 // d_hat at positions 3-4, vertex 1 at position 9; vertices 2 and 3 carry the mass, so the centre
 // of mass falls at 11.2 m/s, then at 0.8 m/s from position 4, and rises at 8.2 m/s from position
