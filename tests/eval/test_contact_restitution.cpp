@@ -355,15 +355,15 @@ TEST(ContactRestitution, ABadEpisodeIsOneLineNamingTheScene) {
 // moved by hand at h = 1 ms. Vertices 0 and 1 are its "corners" (no mass): vertex 0 is within
 // d_hat at positions 3-4, vertex 1 at position 9; vertices 2 and 3 carry the mass, so the centre
 // of mass falls at 11.2 m/s, then at 0.8 m/s from position 4, and rises at 8.2 m/s from position
-// 10. Still approaching in between, both corners are one episode; turned away at position 6,
-// the episode ends with the first corner.
+// 10. Still approaching in between, both corners are one episode; turned away at position 5,
+// the first out of contact, the episode ends with the first corner.
 TEST(ContactEpisodes, ContactsWhileStillApproachingAreOneEpisode) {
   ObstacleMesh floor;
   floor.V.resize(4, 3);
   floor.V << -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0;
   floor.F.resize(2, 3);
   floor.F << 0, 1, 2, 0, 2, 3;
-  auto run_with = [&](double v6) {
+  auto run_with = [&](double v5) {
     SimulationRun run;
     run.mesh.V.resize(4, 3);
     run.mesh.V << 0, 0, 0.1, 0.1, 0, 0.1, 0, 0.1, 1.0, 0, 0, 1.1;
@@ -374,7 +374,7 @@ TEST(ContactEpisodes, ContactsWhileStillApproachingAreOneEpisode) {
     run.trajectory.integrator = Integrator::kBdf1;
     double com_z = 1.0;
     for (int k = -3; k < 16; ++k) {
-      const double v = k <= 3 ? -11.2 : k == 6 ? v6 : k <= 9 ? -0.8 : 8.2;
+      const double v = k <= 3 ? -11.2 : k == 5 ? v5 : k <= 9 ? -0.8 : 8.2;
       com_z += 1e-3 * v;
       Eigen::VectorXd q(12);
       q << 0, 0, (k == 3 || k == 4) ? 5e-4 : 0.1,   //
