@@ -404,5 +404,59 @@ TEST(ContactEpisodes, ContactsWhileStillApproachingAreOneEpisode) {
   EXPECT_EQ(two[0].last_step, 4);
 }
 
+// The same for a pair of bodies, along their relative velocity: the corner tet above a second
+// body, a flat tet whose top face lies at z = 0 (four unit masses). Standing still, it sees both
+// corners as one episode; dropping away at 5 m/s at positions 5-6 and back at 7-8 (so that the
+// second corner meets it again at 9), it separates from the tet in between, though the tet
+// itself still falls: two episodes.
+TEST(ContactEpisodes, APairJoinsCornersAlongItsRelativeVelocity) {
+  auto run_with = [&](bool other_drops) {
+    SimulationRun run;
+    run.mesh.V.resize(8, 3);
+    run.mesh.V << 0, 0, 0.1, 0.1, 0, 0.1, 0, 0.1, 1.0, 0, 0, 1.1,  //
+        -1, -1, 0, 1, -1, 0, 0, 1, 0, 0, 0, -1;
+    run.mesh.T.resize(2, 4);
+    run.mesh.T << 0, 1, 2, 3, 4, 5, 6, 7;
+    run.bodies.resize(2);
+    run.bodies[0].vertex_end = 4;
+    run.bodies[0].element_end = 1;
+    run.bodies[1].vertex_begin = 4;
+    run.bodies[1].vertex_end = 8;
+    run.bodies[1].element_begin = 1;
+    run.bodies[1].element_end = 2;
+    run.vertex_masses.resize(8);
+    run.vertex_masses << 0, 0, 1, 1, 1, 1, 1, 1;
+    run.trajectory.time_step = 1e-3;
+    run.trajectory.integrator = Integrator::kBdf1;
+    double com_z = 1.0, other_z = 0.0;
+    for (int k = -3; k < 16; ++k) {
+      com_z += 1e-3 * (k <= 3 ? -11.2 : k <= 9 ? -0.8 : 8.2);
+      if (other_drops && k >= 5 && k <= 8) other_z += 1e-3 * (k <= 6 ? -5.0 : 5.0);
+      Eigen::VectorXd q(24);
+      q << 0, 0, (k == 3 || k == 4) ? 5e-4 : 0.1,  //
+          0.1, 0, k == 9 ? 5e-4 : 0.1,              //
+          0, 0.1, com_z,                            //
+          0, 0, com_z + 0.1,                        //
+          -1, -1, other_z, 1, -1, other_z, 0, 1, other_z, 0, 0, other_z - 1;
+      if (k < 0) {
+        run.trajectory.history.insert(run.trajectory.history.begin(), q);
+      } else {
+        run.trajectory.q.push_back(q);
+        if (k > 0) run.trajectory.steps.emplace_back();
+      }
+    }
+    return first_contact_episodes(run, {}, {}, 1e-3, 2);
+  };
+  const std::vector<ContactEpisode> still = run_with(false);
+  ASSERT_EQ(still.size(), 1u);
+  EXPECT_EQ(still[0].kind, ContactEpisode::Kind::kBodies);
+  EXPECT_EQ(still[0].first_step, 3);
+  EXPECT_EQ(still[0].last_step, 9);
+  const std::vector<ContactEpisode> apart = run_with(true);
+  ASSERT_EQ(apart.size(), 1u);  // the pair's first episode
+  EXPECT_EQ(apart[0].first_step, 3);
+  EXPECT_EQ(apart[0].last_step, 4);
+}
+
 }  // namespace
 }  // namespace rbaa
