@@ -246,26 +246,15 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
     e.body = t->body;
     e.other = t->other;
     e.first_step = t->first;
-    // The run of positions in contact from the first: up to the next one out of it, or the end;
-    // then, as find_bounces does with planes, on through positions out of contact at which the
-    // pair still approaches along the episode's normal, to the end of its next run in contact
-    // (a tumbling body's next corner; at a fine step the corners are separate runs).
-    auto run_end = [&](int k) {
-      const auto from = t->in_contact.begin() + k;
-      return k + static_cast<int>(std::find(from, t->in_contact.end(), 0) - from) - 1;
+    // The positions in contact from the first, and on through positions out of contact at which
+    // the pair still approaches along the episode's normal (impact_end, as find_bounces).
+    auto in_contact = [&](int k) { return t->in_contact[k] != 0; };
+    auto approaching = [&](int k) {
+      Eigen::Vector3d w = com_velocity(t->body, k);
+      if (t->kind == ContactEpisode::Kind::kBodies) w -= com_velocity(t->other, k);
+      return w.dot(t->normal) <= 0;
     };
-    e.last_step = run_end(t->first);
-    for (;;) {
-      int next = e.last_step + 1;
-      bool approaching = true;
-      for (; next < num_positions && !t->in_contact[next] && approaching; ++next) {
-        Eigen::Vector3d w = com_velocity(t->body, next);
-        if (t->kind == ContactEpisode::Kind::kBodies) w -= com_velocity(t->other, next);
-        approaching = w.dot(t->normal) <= 0;
-      }
-      if (!approaching || next >= num_positions) break;
-      e.last_step = run_end(next);
-    }
+    e.last_step = impact_end(t->first, num_positions, in_contact, [](int) {}, approaching) - 1;
     e.complete = e.first_step > 0 && e.last_step + 1 < num_positions;
     e.out_step = std::min(e.last_step + 1, num_positions - 1);
     auto quiet = [&](int k) {

@@ -103,24 +103,19 @@ std::vector<Bounce> find_bounces(const std::vector<std::vector<double>>& distanc
     Bounce b;
     b.first_step = k;
     std::vector<char> touched(num_planes, 0);
-    for (;;) {
-      for (; k < n && in_contact(k); ++k) {
-        for (int p = 0; p < num_planes; ++p) touched[p] |= distances[k][p] < d_hat;
-      }
-      // A body that leaves d_hat still approaching every plane it touched is still in the same
-      // impact (a tumbling body's first corner slowed it and the next corner is on its way; at a
-      // fine step the two are separate contacts): the episode goes on to the next contact unless
-      // the centre of mass turns away from one of those planes first.
-      int next = k;
-      bool approaching = true;
-      for (; next < n && !in_contact(next) && approaching; ++next) {
-        for (int p = 0; p < num_planes; ++p) {
-          if (touched[p] && planes[p].normal.dot(com_velocity[next]) > 0) approaching = false;
-        }
-      }
-      if (!approaching || next >= n) break;
-      k = next;
-    }
+    // A body that leaves d_hat still approaching every plane it touched is still in the same
+    // impact; it ends when the centre of mass turns away from one of those planes.
+    k = impact_end(
+        k, n, in_contact,
+        [&](int j) {
+          for (int p = 0; p < num_planes; ++p) touched[p] |= distances[j][p] < d_hat;
+        },
+        [&](int j) {
+          for (int p = 0; p < num_planes; ++p) {
+            if (touched[p] && planes[p].normal.dot(com_velocity[j]) > 0) return false;
+          }
+          return true;
+        });
     b.last_step = k - 1;
     for (int p = 0; p < num_planes; ++p) {
       if (touched[p]) b.planes.push_back(p);

@@ -59,6 +59,26 @@ struct Bounce {
   bool complete() const { return kind != BounceKind::kUnfinished; }
 };
 
+/// Where one impact ends, the rule find_bounces and eval's first_contact_episodes share. From
+/// `first`, a position in contact, it runs through the positions in contact (`visit(k)` is called
+/// on each) and on through positions out of contact at which the body still approaches what it
+/// touched (`approaching(k)`) to the next run in contact (a tumbling body's next corner: at a fine
+/// step its corners are separate runs), until it turns away or the n positions end. Returns one
+/// past the last position in contact.
+template <class InContact, class Visit, class Approaching>
+int impact_end(int first, int n, InContact&& in_contact, Visit&& visit, Approaching&& approaching) {
+  int k = first;
+  for (;;) {
+    for (; k < n && in_contact(k); ++k) visit(k);
+    int next = k;
+    for (; next < n && !in_contact(next); ++next) {
+      if (!approaching(next)) return k;
+    }
+    if (next >= n) return k;
+    k = next;
+  }
+}
+
 /// Contact episodes of a trajectory, in time order. `distances[k][p]`: minimum distance of the
 /// surface to plane p at position k; `com_velocity[k]`: the centre of mass velocity at position
 /// k. An episode runs from the first position within d_hat of a plane until the body is out of
