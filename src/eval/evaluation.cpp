@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <ostream>
 #include <sstream>
 
@@ -225,24 +227,27 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
                            double gravity_speed_per_step) {
   // An impact changes the normal velocity by far more than gravity does in one step. A bounce of a
-  // non-round body is often several impacts a few steps apart (it rocks onto another corner), so
-  // the episode runs from the first such jump to the last one followed by three quiet steps, and
-  // the rebound compares the normal velocities before and after the whole episode, as the
-  // deformable bounce does with its contact steps.
-  auto jump = [&](size_t k) {
-    const double in = states[k].velocity.dot(plane.normal);
-    const double out = states[k + 1].velocity.dot(plane.normal);
+  // non-round body is often several impacts (it rocks onto another corner): the episode runs
+  // through the impacts and on while the body still approaches the plane, as in the deformable
+  // run (impact_end), or while the next impact is at most three steps away (the deformable body
+  // is still within d_hat there: its contact lasts some steps where the twin's is one impulse).
+  // The rebound compares the normal velocities before and after the whole episode.
+  const int n = static_cast<int>(states.size()) - 1;  // impact(k) compares states k and k + 1
+  auto normal_velocity = [&](int k) { return states[k].velocity.dot(plane.normal); };
+  auto impact = [&](int k) {
+    const double in = normal_velocity(k), out = normal_velocity(k + 1);
     return std::abs(out - in) > 10 * gravity_speed_per_step + 1e-9 * std::abs(in);
   };
-  for (size_t k = 0; k + 1 < states.size(); ++k) {
-    const double in = states[k].velocity.dot(plane.normal);
-    if (!(in < 0) || !jump(k)) continue;
-    size_t last = k;
-    for (size_t j = k + 1; j + 1 < states.size() && j <= last + 3; ++j) {
-      if (jump(j)) last = j;
-    }
-    if (last + 4 >= states.size() && last + 1 < states.size() - 1) return std::nan("");  // not over
-    return -states[last + 1].velocity.dot(plane.normal) / in;
+  for (int k = 0; k < n; ++k) {
+    const double in = normal_velocity(k);
+    if (!(in < 0) || !impact(k)) continue;
+    int last = k;
+    auto goes_on = [&](int j) { return normal_velocity(j) < 0 || j <= last + 3; };
+    const int end = impact_end(k, n, impact, [&](int j) { last = j; }, goes_on);
+    int j = end;
+    while (j < n && goes_on(j)) ++j;
+    if (j >= n) return std::nan("");  // the trace ended within the episode
+    return -normal_velocity(end) / in;
   }
   return std::nan("");
 }
@@ -261,31 +266,90 @@ const char* restitution_contact_name(RestitutionContact contact) {
 
 namespace {
 
-// Secant on f(e) = rebound(e) - target, starting from e = target (exact for a sphere), e kept in
-// [0, 3]; c.iterations counts the rebound calls. Leaves c uncalibrated with restitution 1 if the
-// rigid twin never rebounds (rebound NaN) at e = target.
+// Every restitution e in [0, 1] with rebound(e) = target to the tolerance, into c.roots, and
+// the one `closeness(e)` (smaller is closer) picks, else the nearest to target. Above 1 Bullet's
+// restitution adds energy at every contact with that obstacle, later ones too, so it is searched
+// (up to 3) only for a rebound above 1, which gained energy in the run itself (a driven body's
+// face springing back). The twin's rebound is piecewise smooth in e: it jumps where the body,
+// leaving its first corner a little faster or slower, meets another corner or none. So a scan
+// brackets every change of sign of f = rebound - target on a grid (0.1 apart to 1, 0.25 beyond,
+// and the target itself: exact for a sphere), false position (Illinois) closes each bracket, and
+// a bracket that closes on a jump instead of a root is dropped. With no root, c stays
+// uncalibrated at the e with the least |f| (restitution 1 if the twin never meets the contact:
+// rebound NaN everywhere). The callers count their rigid runs in c.iterations.
 template <class Rebound>
 void fit_restitution(Rebound&& rebound, double target, double tolerance,
-                     RestitutionCalibration& c) {
+                     const std::function<double(double)>& closeness, RestitutionCalibration& c) {
   c.deformable_rebound = target;
-  double e0 = std::max(target, 0.0), f0 = rebound(e0) - target;
-  if (std::isnan(f0)) return;  // the rigid body never meets that contact
-  double e1 = e0 * 1.05 + 1e-3, f1 = rebound(e1) - target;
-  for (int it = 0; it < 30 && std::abs(f0) > tolerance * std::abs(target); ++it) {
-    if (std::isnan(f1) || f1 == f0) break;
-    const double e2 = std::clamp(e1 - f1 * (e1 - e0) / (f1 - f0), 0.0, 3.0);
-    e0 = e1;
-    f0 = f1;
-    e1 = e2;
-    f1 = rebound(e1) - target;
-    if (std::abs(f1) < std::abs(f0)) {
-      std::swap(e0, e1);
-      std::swap(f0, f1);
+  const double close_enough = tolerance * std::abs(target);
+  std::vector<double> grid;
+  for (int i = 0; i <= 10; ++i) grid.push_back(0.1 * i);
+  const double top = target > 1 ? 3.0 : 1.0;
+  for (int i = 1; 1.0 + 0.25 * i <= top; ++i) grid.push_back(1.0 + 0.25 * i);
+  if (target > 0 && target < top) grid.push_back(target);
+  std::sort(grid.begin(), grid.end());
+  grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
+
+  double best_e = 1.0, best_f = std::nan("");
+  auto f = [&](double e) {
+    const double value = rebound(e) - target;
+    if (!std::isnan(value) && !(std::abs(value) >= std::abs(best_f))) {
+      best_e = e;
+      best_f = value;
+    }
+    return value;
+  };
+  std::vector<std::pair<double, double>> roots;  // (e, f)
+  std::vector<double> values;
+  for (double e : grid) values.push_back(f(e));
+  for (size_t i = 0; i < grid.size(); ++i) {
+    if (std::abs(values[i]) <= close_enough) roots.push_back({grid[i], values[i]});
+  }
+  for (size_t i = 0; i + 1 < grid.size(); ++i) {
+    double a = grid[i], fa = values[i], b = grid[i + 1], fb = values[i + 1];
+    if (std::isnan(fa) || std::isnan(fb) || std::abs(fa) <= close_enough ||
+        std::abs(fb) <= close_enough || !((fa < 0) != (fb < 0))) {
+      continue;
+    }
+    for (int it = 0; it < 40 && std::abs(b - a) > 1e-9; ++it) {
+      const double e = b - fb * (b - a) / (fb - fa);
+      const double fe = f(e);
+      if (std::isnan(fe)) break;
+      if (std::abs(fe) <= close_enough) {
+        roots.push_back({e, fe});
+        break;
+      }
+      if ((fe < 0) != (fb < 0)) {
+        a = b;
+        fa = fb;
+      } else {
+        fa *= 0.5;
+      }
+      b = e;
+      fb = fe;
     }
   }
-  c.calibrated = std::abs(f0) <= tolerance * std::abs(target);
-  c.restitution = e0;
-  c.rigid_rebound = f0 + target;
+  std::sort(roots.begin(), roots.end());
+  for (const auto& r : roots) c.roots.push_back(r.first);
+  if (roots.empty()) {
+    if (std::isnan(best_f)) return;  // the rigid body never meets that contact
+    c.restitution = best_e;
+    c.rigid_rebound = best_f + target;
+    return;
+  }
+  size_t pick = 0;
+  double pick_score = INFINITY;
+  for (size_t i = 0; i < roots.size(); ++i) {
+    const double score = roots.size() > 1 && closeness ? closeness(roots[i].first)
+                                                       : std::abs(roots[i].first - target);
+    if (score < pick_score) {
+      pick = i;
+      pick_score = score;
+    }
+  }
+  c.calibrated = true;
+  c.restitution = roots[pick].first;
+  c.rigid_rebound = roots[pick].second + target;
 }
 
 }  // namespace
@@ -294,7 +358,8 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
                                              const RigidShape& shape, const Scene& scene,
                                              RigidSettings settings, double duration, int plane,
                                              double target, double tolerance,
-                                             const std::vector<RigidBody>& further) {
+                                             const std::vector<RigidBody>& further,
+                                             const TwinCloseness& closeness) {
   RestitutionCalibration c;
   c.contact = RestitutionContact::kPlane;
   c.plane = plane;
@@ -307,7 +372,15 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
     return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration, further),
                                scene.planes[plane], g_step);
   };
-  fit_restitution(rebound, target, tolerance, c);
+  std::function<double(double)> twin_closeness;
+  if (closeness) {
+    twin_closeness = [&](double e) {
+      settings.plane_restitution[plane] = e;
+      ++c.iterations;
+      return closeness(simulate_rigid_bodies(mass, shape, scene, settings, duration, further));
+    };
+  }
+  fit_restitution(rebound, target, tolerance, twin_closeness, c);
   return c;
 }
 
@@ -385,7 +458,7 @@ std::pair<int, int> rigid_episode(const std::vector<RigidTouch>& touches, RigidC
 RestitutionCalibration calibrate_contact_restitution(
     const SimulationRun& run, const ContactEpisode& episode, const RigidMassProperties& mass,
     const RigidShape& shape, const Scene& scene, RigidSettings settings, double duration,
-    double tolerance, const std::vector<RigidBody>& further) {
+    double tolerance, const std::vector<RigidBody>& further, const TwinCloseness& closeness) {
   RestitutionCalibration c;
   const bool mesh = episode.kind == ContactEpisode::Kind::kMesh;
   const int num_bodies = 1 + static_cast<int>(further.size());
@@ -455,13 +528,16 @@ RestitutionCalibration calibrate_contact_restitution(
                 pairs.end());
     pairs.push_back({episode.body, episode.other, 1.0});
   }
-  auto rebound = [&](double e) {
+  auto set_restitution = [&](double e) {
     if (mesh) {
       settings.mesh_restitution[episode.other] = e;
     } else {
       settings.pair_restitution.back().restitution = e;
     }
     ++c.iterations;
+  };
+  auto rebound = [&](double e) {
+    set_restitution(e);
     std::vector<RigidTouch> touches;
     const auto states =
         simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
@@ -476,7 +552,14 @@ RestitutionCalibration calibrate_contact_restitution(
                            sides, scene.gravity, states[0][n_first - 1].time,
                            states[0][n_last].time);
   };
-  fit_restitution(rebound, target, tolerance, c);
+  std::function<double(double)> twin_closeness;
+  if (closeness) {
+    twin_closeness = [&](double e) {
+      set_restitution(e);
+      return closeness(simulate_rigid_bodies(mass, shape, scene, settings, duration, further));
+    };
+  }
+  fit_restitution(rebound, target, tolerance, twin_closeness, c);
   return c;
 }
 
@@ -519,10 +602,37 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
   for (const ContactEpisode& e : episodes) contacts.push_back({e.first_step, nullptr, 0, &e});
   std::stable_sort(contacts.begin(), contacts.end(),
                    [](const Contact& x, const Contact& y) { return x.step < y.step; });
+  // Where several restitutions give a contact's rebound, the twin that follows the run closest
+  // (every body's centre of mass, at most) from the contact until the next contact after it
+  // begins (whose restitution is not yet fitted) is kept.
+  std::vector<RunTrace> run_traces;
+  for (int body = 0; body <= static_cast<int>(further.size()); ++body) {
+    run_traces.push_back(trace_from_deformable("", run, body));
+  }
+  auto closeness_over = [&](int first, int own_end) -> TwinCloseness {
+    int end = std::numeric_limits<int>::max();
+    for (const Contact& later : contacts) {
+      if (later.step > own_end) end = std::min(end, later.step);
+    }
+    return [&run_traces, first, end](const std::vector<std::vector<RigidState>>& states) {
+      double gap = 0;
+      for (size_t b = 0; b < states.size() && b < run_traces.size(); ++b) {
+        const auto& positions = run_traces[b].position;
+        const int stop = std::min({end, static_cast<int>(states[b].size()) - 1,
+                                   static_cast<int>(positions.size()) - 1});
+        for (int k = std::max(first, 0); k <= stop; ++k) {
+          gap = std::max(gap, (states[b][k].position - positions[k]).norm());
+        }
+      }
+      return gap;
+    };
+  };
   for (const Contact& contact : contacts) {
     if (contact.episode) {
+      const ContactEpisode& e = *contact.episode;
       RestitutionCalibration c = calibrate_contact_restitution(
-          run, *contact.episode, mass, shape, scene, rigid, scene.duration, tolerance, further);
+          run, e, mass, shape, scene, rigid, scene.duration, tolerance, further,
+          closeness_over(e.first_step, e.out_step));
       if (c.contact == RestitutionContact::kMesh) {
         rigid.mesh_restitution[c.mesh] = c.restitution;
       } else {
@@ -545,8 +655,9 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
       }
     }
     if (seen) continue;
-    RestitutionCalibration c = calibrate_restitution(mass, shape, scene, rigid, scene.duration,
-                                                     plane, rebound, tolerance, further);
+    RestitutionCalibration c =
+        calibrate_restitution(mass, shape, scene, rigid, scene.duration, plane, rebound, tolerance,
+                              further, closeness_over(b.first_step, b.last_step));
     c.time = b.first_step * scene.time_step;
     rigid.plane_restitution[plane] = c.restitution;
     calibrations.push_back(c);

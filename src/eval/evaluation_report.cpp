@@ -138,8 +138,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     nlohmann::json j = contact_json(c);
     j.update({{"time_s", c.time}, {"calibrated", c.calibrated},
               {"deformable_first_rebound", c.deformable_rebound}, {"rigid_first_rebound", c.rigid_rebound},
-              {"restitution", c.restitution}, {"iterations", c.iterations},
-              {"deformable_later_rebounds", c.later_deformable_rebounds}});
+              {"restitution", c.restitution}, {"restitutions_giving_it", c.roots},
+              {"iterations", c.iterations}, {"deformable_later_rebounds", c.later_deformable_rebounds}});
     calibration.push_back(std::move(j));
   }
   auto own_twin_json = [&](const OwnTwin& t) {
@@ -148,7 +148,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       nlohmann::json j = contact_json(c);
       j.update({{"deformable_first_rebound", c.deformable_rebound},
                 {"rigid_first_rebound", c.rigid_rebound}, {"restitution", c.restitution},
-                {"calibrated", c.calibrated}});
+                {"restitutions_giving_it", c.roots}, {"calibrated", c.calibrated}});
       cal.push_back(std::move(j));
     }
     return nlohmann::json{{"calibration", cal}, {"vs_own_twin", comparison_json(t.gap)},

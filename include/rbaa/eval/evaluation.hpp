@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -68,7 +69,10 @@ struct RestitutionCalibration {
   double deformable_rebound = 0;
   double rigid_rebound = 0;       ///< the same ratio for the rigid reference, fitted
   double restitution = 1.0;       ///< the Bullet restitution that achieves it
-  int iterations = 0;
+  int iterations = 0;             ///< rigid runs the fit took
+  /// Every restitution that gives the rebound (to the tolerance), ascending; `restitution` is one
+  /// of them when calibrated.
+  std::vector<double> roots;
   std::vector<double> later_deformable_rebounds;  ///< restitutions of later one-plane bounces
 };
 
@@ -209,16 +213,31 @@ Evaluation evaluate(const Scene& scene, const TetMesh& reference_mesh,
 /// Compares two traces sampled at the same times.
 RunComparison compare_runs(const RunTrace& a, const RunTrace& b);
 
+/// How far a rigid twin's run (every body's states, simulate_rigid_bodies) strays from the run it
+/// is fitted to; smaller is closer. Picks among restitutions that all give the fitted rebound.
+using TwinCloseness = std::function<double(const std::vector<std::vector<RigidState>>&)>;
+
 /// Fits the restitution of plane `plane` (settings.plane_restitution) so that the rigid
 /// reference's first rebound off it (the ratio of the centre of mass's normal velocities after and
 /// before) equals `target`. `further`: the scene's other bodies' twins (simulate_rigid).
+/// The twin's rebound is not monotonic in the restitution (a non-round body that leaves its
+/// first corner meets no second one), so every restitution in [0, 1] that gives `target` is
+/// found; `closeness` picks among them (the closest run), else the one nearest `target`. Above 1
+/// a restitution adds energy at every later contact too, so it is tried (up to 3) only for a
+/// `target` above 1 (the run gained energy: a driven body's face springing back); otherwise a
+/// rebound no restitution up to 1 gives is not fitted (calibrated false; the restitution the
+/// nearest rebound's).
 RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
                                              const RigidShape& shape, const Scene& scene,
                                              RigidSettings settings, double duration, int plane,
                                              double target, double tolerance,
-                                             const std::vector<RigidBody>& further = {});
+                                             const std::vector<RigidBody>& further = {},
+                                             const TwinCloseness& closeness = nullptr);
 
-/// The first rebound ratio of a rigid trace off plane `plane` (NaN if none).
+/// The first rebound ratio of a rigid trace off plane `plane` (NaN if none, or if the trace ends
+/// within the episode). An episode runs from the first step whose change of normal velocity is
+/// an impact through the next impacts while the body still approaches the plane, as the
+/// deformable run's does (impact_end), or while the next impact is at most three steps away.
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
                            double gravity_speed_per_step);
 
@@ -233,13 +252,14 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
 /// episode's contact point, 0 for a mesh; w_out without the gravity the free sides gained over the
 /// episode (not the contact's doing); n the direction of the episode's impulse, each run's own
 /// (frictionless: the contact normal; for two spheres the ratio is then Bullet's restitution).
-/// A secant search from e = target, as for planes. Not fitted (restitution 1) when the run's
+/// Every restitution in [0, 1] (up to 3 for a rebound above 1) that gives it is found, and one picked, as for planes. Not fitted (restitution 1) when the run's
 /// episode is not clean (unfinished, w_in . n >= 0, or w_out . n <= 0) or the twin never meets
 /// that pair. `further` and the body indices as simulate_rigid_bodies'.
 RestitutionCalibration calibrate_contact_restitution(
     const SimulationRun& run, const ContactEpisode& episode, const RigidMassProperties& mass,
     const RigidShape& shape, const Scene& scene, RigidSettings settings, double duration,
-    double tolerance, const std::vector<RigidBody>& further = {});
+    double tolerance, const std::vector<RigidBody>& further = {},
+    const TwinCloseness& closeness = nullptr);
 
 /// DIR/report.json, DIR/summary.md, DIR/<run>.csv and DIR/paths.{gp,png}.
 void write_evaluation(const Evaluation& evaluation, const Scene& scene, const std::string& dir);
