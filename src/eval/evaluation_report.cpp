@@ -244,7 +244,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         << "'s centre of mass.\n\n"
         << "Restitution per plane, obstacle mesh and pair of bodies, fitted to the deformable baseline's first "
            "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact's impulse; "
-           "not fitted: restitution 1):\n\n"
+           "restitution in [0, 1], above 1 only for a rebound above 1; of several that fit, the one whose twin "
+           "follows the baseline closest; not fitted: the restitution whose rebound came nearest, or 1 if the "
+           "twin never meets that contact):\n\n"
         << "| contact | first contact (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
         << "|---|---|---|---|---|---|\n";
     for (const auto& c : ev.calibrations) {
