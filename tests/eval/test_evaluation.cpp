@@ -64,13 +64,20 @@ struct TiltedCube {
     mass = rigid_mass_properties(compute_moments(mesh, scene.reference_rho));
     shape = rigid_shape_from_surface(mesh);
   }
-  /// The twin's first rebound off the floor at restitution e.
-  double rebound_at(double e) const {
+  /// The floor's restitution fitted to `target` (calibrate_restitution, from restitution 1).
+  RestitutionCalibration fit(double target, double tolerance,
+                             const TwinCloseness& closeness = nullptr) const {
+    return calibrate_restitution(mass, shape, scene, RigidSettings{}, scene.duration, 0, target,
+                                 tolerance, {}, closeness);
+  }
+  /// The twin's run at floor restitution e.
+  std::vector<RigidState> run(double e) const {
     RigidSettings settings;
     settings.plane_restitution = {e};
-    return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, scene.duration),
-                               scene.planes[0], 0.0);
+    return simulate_rigid(mass, shape, scene, settings, scene.duration);
   }
+  /// The twin's first rebound off the floor at restitution e.
+  double rebound_at(double e) const { return rigid_first_rebound(run(e), scene.planes[0], 0.0); }
 };
 
 // Restitution calibration on a non-spherical body, where the rebound is not the restitution and
@@ -79,22 +86,16 @@ struct TiltedCube {
 // themselves (gravity off: the normal velocity is constant before and after the single bounce).
 TEST(Evaluation, CalibratedRestitutionReproducesTheTargetOnATiltedCube) {
   const TiltedCube cube(0.005);
-  const Scene& scene = cube.scene;
-  const RigidMassProperties& mass = cube.mass;
-  const RigidShape& shape = cube.shape;
   const double target = 0.6, tolerance = 1e-3;
-  RigidSettings settings;
-  const RestitutionCalibration cal =
-      calibrate_restitution(mass, shape, scene, settings, scene.duration, 0, target, tolerance);
+  const RestitutionCalibration cal = cube.fit(target, tolerance);
   ASSERT_TRUE(cal.calibrated);
-  settings.plane_restitution = {cal.restitution};
-  const std::vector<RigidState> states = simulate_rigid(mass, shape, scene, settings, scene.duration);
+  const std::vector<RigidState> states = cube.run(cal.restitution);
   const double v_in = states.front().velocity.z(), v_out = states.back().velocity.z();
   const double rebound = -v_out / v_in;
   std::printf("tilted cube: restitution %.6f after %d rigid runs gives rebound %.9f (target %.3f, "
               "calibration says %.9f)\n",
               cal.restitution, cal.iterations, rebound, target, cal.rigid_rebound);
-  EXPECT_GT(cal.iterations, 2);                          // the secant iterated
+  EXPECT_GT(cal.iterations, 2);                          // the search iterated
   EXPECT_GT(std::abs(cal.restitution - target), 1e-3);   // rebound != restitution off a corner
   EXPECT_NEAR(rebound, target, tolerance * target);
   // What the calibration reports is what the rigid run does with its restitution (the same
@@ -105,16 +106,14 @@ TEST(Evaluation, CalibratedRestitutionReproducesTheTargetOnATiltedCube) {
   // Driven to 1e-12, false position must still close the bracket in a few runs after the scan's
   // 12 (measured: 3 more; Bullet's rebound is not linear in the restitution for this spinning
   // corner impact).
-  const RestitutionCalibration fine =
-      calibrate_restitution(mass, shape, scene, RigidSettings{}, scene.duration, 0, target, 1e-12);
+  const RestitutionCalibration fine = cube.fit(target, 1e-12);
   std::printf("tilted cube at 1e-12: restitution %.12f after %d rigid runs, rebound %.12f\n",
               fine.restitution, fine.iterations, fine.rigid_rebound);
   EXPECT_TRUE(fine.calibrated);
   EXPECT_LE(fine.iterations, 12 + 8);
   EXPECT_EQ(fine.roots, std::vector<double>{fine.restitution});
   EXPECT_NEAR(fine.rigid_rebound, target, 1e-12 * target);
-  settings.plane_restitution = {fine.restitution};
-  const std::vector<RigidState> again = simulate_rigid(mass, shape, scene, settings, scene.duration);
+  const std::vector<RigidState> again = cube.run(fine.restitution);
   EXPECT_NEAR(-again.back().velocity.z() / again.front().velocity.z(), fine.rigid_rebound, 1e-14);
 }
 
@@ -125,10 +124,7 @@ TEST(Evaluation, CalibratedRestitutionReproducesTheTargetOnATiltedCube) {
 TEST(Evaluation, RigidReboundSpansTheCornersOfOneBounceAtAFineStep) {
   const TiltedCube cube(0.0002);
   const Scene& scene = cube.scene;
-  RigidSettings settings;
-  settings.plane_restitution = {0.5};
-  const std::vector<RigidState> states =
-      simulate_rigid(cube.mass, cube.shape, scene, settings, scene.duration);
+  const std::vector<RigidState> states = cube.run(0.5);
   int impacts = 0;  // steps whose normal velocity changed: the corners' impacts
   for (size_t k = 0; k + 1 < states.size(); ++k) {
     impacts += std::abs(states[k + 1].velocity.z() - states[k].velocity.z()) > 1e-9;
@@ -148,8 +144,7 @@ TEST(Evaluation, RigidReboundSpansTheCornersOfOneBounceAtAFineStep) {
   // At this step the rebound tops out near 0.38 (restitution 0.5; at 0.6 the cube leaves its first
   // corner and meets no second): 0.45 has no restitution, and the fit keeps, not fitted, the one
   // whose rebound comes nearest of all it tried, here not the last it tried (1).
-  const RestitutionCalibration none = calibrate_restitution(
-      cube.mass, cube.shape, scene, RigidSettings{}, scene.duration, 0, 0.45, 1e-3);
+  const RestitutionCalibration none = cube.fit(0.45, 1e-3);
   std::printf("rebound 0.45: none; kept restitution %.3f, rebound %.6f\n", none.restitution,
               none.rigid_rebound);
   EXPECT_FALSE(none.calibrated);
@@ -167,13 +162,9 @@ TEST(Evaluation, RigidReboundSpansTheCornersOfOneBounceAtAFineStep) {
 // without a measure of closeness the one nearest the target is kept, with one the closest twin.
 TEST(Evaluation, CalibrationFindsEveryRestitutionThatGivesTheReboundAndKeepsTheClosestTwin) {
   const TiltedCube cube(0.005);
-  const Scene& scene = cube.scene;
-  const RigidMassProperties& mass = cube.mass;
-  const RigidShape& shape = cube.shape;
   const double target = 0.4, tolerance = 1e-6;
   auto rebound_at = [&](double e) { return cube.rebound_at(e); };
-  const RestitutionCalibration nearest =
-      calibrate_restitution(mass, shape, scene, RigidSettings{}, scene.duration, 0, target, tolerance);
+  const RestitutionCalibration nearest = cube.fit(target, tolerance);
   std::printf("rebound %.1f from restitutions:", target);
   for (double e : nearest.roots) std::printf(" %.6f", e);
   std::printf(" (kept %.6f)\n", nearest.restitution);
@@ -191,23 +182,18 @@ TEST(Evaluation, CalibrationFindsEveryRestitutionThatGivesTheReboundAndKeepsTheC
   // calibration keeps that one, not the nearest to the target.
   const double other = nearest.roots.front() == nearest.restitution ? nearest.roots.back()
                                                                      : nearest.roots.front();
-  RigidSettings settings;
-  settings.plane_restitution = {other};
-  const Eigen::Vector3d end =
-      simulate_rigid(mass, shape, scene, settings, scene.duration).back().position;
+  const Eigen::Vector3d end = cube.run(other).back().position;
   const TwinCloseness ends_there = [&](const std::vector<std::vector<RigidState>>& states) {
     return (states.at(0).back().position - end).norm();
   };
-  const RestitutionCalibration closest = calibrate_restitution(
-      mass, shape, scene, RigidSettings{}, scene.duration, 0, target, tolerance, {}, ends_there);
+  const RestitutionCalibration closest = cube.fit(target, tolerance, ends_there);
   EXPECT_EQ(closest.roots, nearest.roots);
   EXPECT_EQ(closest.restitution, other);
   EXPECT_NE(closest.restitution, nearest.restitution);
   EXPECT_NEAR(closest.rigid_rebound, target, tolerance * target);
 
   // A root between the scan's last two points, 0.9 and 1: the rebound 0.8.
-  const RestitutionCalibration high =
-      calibrate_restitution(mass, shape, scene, RigidSettings{}, scene.duration, 0, 0.8, tolerance);
+  const RestitutionCalibration high = cube.fit(0.8, tolerance);
   std::printf("rebound 0.8 from restitution %.6f\n", high.restitution);
   ASSERT_TRUE(high.calibrated);
   EXPECT_GT(high.restitution, 0.9);
@@ -216,8 +202,7 @@ TEST(Evaluation, CalibrationFindsEveryRestitutionThatGivesTheReboundAndKeepsTheC
   // The rebound 0.95 needs a restitution above 1 (about 1.08), which adds energy: not fitted, the
   // nearest rebound's restitution kept. A rebound above 1 (1.3) gained energy in the run: fitted
   // above 1 (measured 1.43).
-  const RestitutionCalibration over =
-      calibrate_restitution(mass, shape, scene, RigidSettings{}, scene.duration, 0, 0.95, tolerance);
+  const RestitutionCalibration over = cube.fit(0.95, tolerance);
   std::printf("rebound 0.95: restitution %.6f, rebound %.6f, calibrated %d\n", over.restitution,
               over.rigid_rebound, over.calibrated);
   EXPECT_FALSE(over.calibrated);
@@ -225,8 +210,7 @@ TEST(Evaluation, CalibrationFindsEveryRestitutionThatGivesTheReboundAndKeepsTheC
   EXPECT_LE(over.restitution, 1.0);
   EXPECT_NEAR(rebound_at(1.0), over.rigid_rebound, 1e-14);  // the nearest rebound: e = 1's
   EXPECT_GT(rebound_at(1.1), 0.95);  // a restitution above 1 would give it
-  const RestitutionCalibration gained =
-      calibrate_restitution(mass, shape, scene, RigidSettings{}, scene.duration, 0, 1.3, tolerance);
+  const RestitutionCalibration gained = cube.fit(1.3, tolerance);
   std::printf("rebound 1.3 from restitution %.6f\n", gained.restitution);
   ASSERT_TRUE(gained.calibrated);
   EXPECT_GT(gained.restitution, 1.0);
