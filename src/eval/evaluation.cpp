@@ -603,25 +603,25 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
   std::stable_sort(contacts.begin(), contacts.end(),
                    [](const Contact& x, const Contact& y) { return x.step < y.step; });
   // Where several restitutions give a contact's rebound, the twin that follows the run closest
-  // (every body's centre of mass, at most) from the contact until the next contact after it
-  // begins (whose restitution is not yet fitted) is kept.
-  std::vector<RunTrace> run_traces;
-  for (int body = 0; body <= static_cast<int>(further.size()); ++body) {
-    run_traces.push_back(trace_from_deformable("", run, body));
-  }
+  // (every body's centre of mass, at most; the run's observables hold them per grid position)
+  // from the contact until the next contact after it begins (whose restitution is not yet
+  // fitted) is kept.
   auto closeness_over = [&](int first, int own_end) -> TwinCloseness {
     int end = std::numeric_limits<int>::max();
     for (const Contact& later : contacts) {
       if (later.step > own_end) end = std::min(end, later.step);
     }
-    return [&run_traces, first, end](const std::vector<std::vector<RigidState>>& states) {
+    return [&run, first, end](const std::vector<std::vector<RigidState>>& states) {
+      const std::vector<StepObservables>& seen = run.observables;
       double gap = 0;
-      for (size_t b = 0; b < states.size() && b < run_traces.size(); ++b) {
-        const auto& positions = run_traces[b].position;
+      for (size_t b = 0; b < states.size(); ++b) {
         const int stop = std::min({end, static_cast<int>(states[b].size()) - 1,
-                                   static_cast<int>(positions.size()) - 1});
+                                   static_cast<int>(seen.size()) - 1});
         for (int k = std::max(first, 0); k <= stop; ++k) {
-          gap = std::max(gap, (states[b][k].position - positions[k]).norm());
+          if (b > seen[k].body_centres.size()) break;
+          const Eigen::Vector3d& centre =
+              b == 0 ? seen[k].centre_of_mass : seen[k].body_centres[b - 1];
+          gap = std::max(gap, (states[b][k].position - centre).norm());
         }
       }
       return gap;
