@@ -2,7 +2,9 @@
 // Projected Newton for one time step (SPEC section 2). Each iteration assembles the Hessian
 // (element Hessians projected to PSD, barrier Hessians clamped PSD), factorises it with CHOLMOD,
 // and takes the step dq = -H^-1 grad E. The step length starts at the largest fraction the forms
-// allow (CCD) and halves until E decreases and the iterate is valid. Convergence: the step's
+// allow (CCD) and halves until E decreases and the iterate is valid; after a halving, a
+// golden-section search between zero and twice that fraction finds the minimum of E along the
+// step (newton_solver.cpp says why). Convergence: the step's
 // velocity ||dq||_inf / h below the tolerance.
 //
 // After a full step (no backtracking) whose velocity is below exact_hessian_factor x the
@@ -57,6 +59,7 @@ struct NewtonResult {
                                   ///< projected one the projection left unchanged)
   double step_velocity = 0;       ///< ||dq||_inf / h of the final, unapplied step (m/s)
   int line_search_halvings = 0;   ///< summed over the iterations
+  int line_search_probes = 0;     ///< energies of the line minimisation after backtracking
   int ccd_limited_steps = 0;      ///< steps shortened by the forms' max_step_size
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
   int subspace_steps = 0;         ///< sub-steps taken (set_subspace_step), no factorisation each
