@@ -10,6 +10,7 @@
 
 #include <cmath>
 
+#include "rbaa/error.hpp"
 #include "rbaa/sim/form.hpp"
 #include "rbaa/sim/incremental_potential.hpp"
 #include "rbaa/sim/newton_solver.hpp"
@@ -45,6 +46,51 @@ class ValleyForm : public Form {
   double m_, c_, a_, eps_;
 };
 
+// The valley's minimum along q_0 (the other coordinates at their target, 0): m (q_0 - 1) +
+// c q_0 / sqrt(q_0^2 + eps^2) = 0, by bisection.
+double valley_minimum(double m, double c, double eps) {
+  double lo = -1, hi = 1;
+  for (int k = 0; k < 200; ++k) {
+    const double u = 0.5 * (lo + hi);
+    (m * (u - 1) + c * u / std::sqrt(u * u + eps * eps) > 0 ? hi : lo) = u;
+  }
+  return lo;
+}
+
+// One Newton iteration from q_0 = 1 (the solver then reports no convergence and leaves x at its
+// first iterate): the step moves q_0 alone, so the minimum along it is the valley's minimum.
+double after_one_iteration(double m, double c, double eps) {
+  Tets T(1, 4);
+  T << 0, 1, 2, 3;
+  SparseHessian hessian(T, 4);
+  Eigen::VectorXd target = Eigen::VectorXd::Zero(12);
+  target[0] = 1;
+  ValleyForm valley(target, m, c, 0, eps);
+  IncrementalPotential E(hessian);
+  E.add(valley, 1.0);
+  NewtonSettings settings;
+  settings.time_step = 1;
+  settings.max_iterations = 1;
+  NewtonSolver newton(settings);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(12);
+  x[0] = 1;
+  EXPECT_THROW(newton.minimize(E, x, "valley"), SolverError);
+  return x[0];
+}
+
+// The first iterate lies within 2 % of the first step's length of the minimum along it (the
+// search's bracket is narrowed to 1 % of the fraction taken). c = 1.5 m: the full step (to
+// q_0 = -0.5) raises the energy and its half (0.25) lowers it, so one halving, where plain
+// backtracking stops at 0.25; c = 1000 m: nine halvings, plain backtracking stops at -0.95.
+TEST(NewtonLineMinimisation, TheFirstIterateIsTheMinimumAlongTheStep) {
+  const double m = 1, eps = 1e-6;
+  for (double c : {1.5, 1e3}) {
+    const double x = after_one_iteration(m, c, eps), best = valley_minimum(m, c, eps);
+    std::printf("c = %g: first iterate %.6f, minimum %.3e\n", c, x, best);
+    EXPECT_LE(std::abs(x - best), 0.02 * std::abs(1 - best)) << "c = " << c;
+  }
+}
+
 TEST(NewtonLineMinimisation, CrossesAFrictionLikeValleyInFewIterations) {
   Tets T(1, 4);
   T << 0, 1, 2, 3;
@@ -65,14 +111,8 @@ TEST(NewtonLineMinimisation, CrossesAFrictionLikeValleyInFewIterations) {
   const NewtonResult r = newton.minimize(E, x, "valley");
   std::printf("%d Newton iterations, %d halvings, %d line-minimisation probes, q_0 = %.3e\n", r.iterations,
               r.line_search_halvings, r.line_search_probes, x[0]);
-  // The minimum: m (q_0 - 1) + c q_0 / sqrt(q_0^2 + eps^2) = 0 (q_0 ~ m eps / c = 1e-9), by
-  // bisection; the other coordinates stay at their target, 0.
-  double lo = 0, hi = 1;
-  for (int k = 0; k < 200; ++k) {
-    const double u = 0.5 * (lo + hi);
-    (m * (u - 1) + c * u / std::sqrt(u * u + eps * eps) > 0 ? hi : lo) = u;
-  }
-  EXPECT_NEAR(x[0], lo, 1e-12);
+  // The minimum, q_0 ~ m eps / c = 1e-9; the other coordinates stay at their target, 0.
+  EXPECT_NEAR(x[0], valley_minimum(m, c, eps), 1e-12);
   EXPECT_LE(x.tail(11).lpNorm<Eigen::Infinity>(), 1e-12);
   EXPECT_GT(r.line_search_probes, 0);
   // Plain backtracking: 23 iterations here (256 halvings); with the line minimisation 6 (27
