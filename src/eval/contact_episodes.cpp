@@ -217,12 +217,7 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
   }
 
   // A body's centre-of-mass velocity at grid position k (the whole mesh's for a run of one body).
-  auto com_velocity = [&](int b, int k) -> Eigen::Vector3d {
-    const Eigen::VectorXd& v = run.trajectory.velocity(frames[k]);
-    const Body& body = bodies[b];
-    return centre_of_mass(v.segment(3 * body.vertex_begin, 3 * body.num_vertices()),
-                          run.vertex_masses.segment(body.vertex_begin, body.num_vertices()));
-  };
+  auto com_velocity = [&](int b, int k) { return body_velocity(run, b, frames[k]); };
 
   // Pick, per mesh, the track with the earliest contact; every body pair stands alone.
   std::vector<const PairTrack*> chosen;

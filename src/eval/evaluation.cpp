@@ -68,7 +68,7 @@ RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run
   for (int k : traj.grid_frames()) {  // step by step with the rigid twin
     t.time.push_back(traj.time(k));
     t.position.push_back(centre_of_mass(part(traj.q[k]), m));
-    t.velocity.push_back(centre_of_mass(part(traj.velocity(k)), m));
+    t.velocity.push_back(body_velocity(run, body, k));
     t.orientation.push_back(best_fit_rotation(part(traj.q[0]), part(traj.q[k]), m));
   }
   return t;
@@ -99,7 +99,7 @@ std::vector<BodyPath> paths_from_deformable(const Scene& scene, const Simulation
       const Eigen::VectorXd x = part(traj.q[k]);
       p.time.push_back(traj.time(k));
       p.centre.push_back(centre_of_mass(x, m));
-      p.velocity.push_back(centre_of_mass(part(traj.velocity(k)), m));
+      p.velocity.push_back(body_velocity(run, static_cast<int>(i), k));
       p.rotation.push_back(best_fit_rotation(rest, x, m));
     }
     const Eigen::MatrixXd V =
@@ -492,10 +492,7 @@ RestitutionCalibration calibrate_contact_restitution(
     const double t = run.trajectory.time(grid.at(k));
     if (drive) return drive->point_velocity(sides.material_point, t);
     if (bodies.empty()) return run.observables.at(k).com_velocity;
-    const Body& body = bodies.at(b);
-    return centre_of_mass(
-        run.trajectory.velocity(grid.at(k)).segment(3 * body.vertex_begin, 3 * body.num_vertices()),
-        run.vertex_masses.segment(body.vertex_begin, body.num_vertices()));
+    return body_velocity(run, b, grid.at(k));
   };
   auto relative = [&](auto&& velocity, int k) -> Eigen::Vector3d {
     Eigen::Vector3d w = velocity(episode.body, sides.body_drive, k);

@@ -308,4 +308,12 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                         [&](std::ostream& os) { os << r.dump(2) << "\n"; });
 }
 
+Eigen::Vector3d body_velocity(const SimulationRun& run, int b, int frame) {
+  const Eigen::VectorXd& v = run.trajectory.velocity(frame);
+  if (run.bodies.empty()) return centre_of_mass(v, run.vertex_masses);
+  const Body& body = run.bodies.at(b);
+  return centre_of_mass(v.segment(3 * body.vertex_begin, 3 * body.num_vertices()),
+                        run.vertex_masses.segment(body.vertex_begin, body.num_vertices()));
+}
+
 }  // namespace rbaa

@@ -57,6 +57,10 @@ struct SimulationRun {
   double simulate_seconds = 0;
 };
 
+/// The centre-of-mass velocity of run.bodies[b] (of the whole mesh when the run has no bodies)
+/// at trajectory frame j, weighted by the run's vertex masses.
+Eigen::Vector3d body_velocity(const SimulationRun& run, int b, int frame);
+
 /// Simulates the scene (its time step, duration, obstacles, gravity, initial velocity and spin
 /// about scene.position) for the placed mesh with the given materials. Throws rbaa::InputError on
 /// bad input and rbaa::SolverError naming the step when a step fails.
