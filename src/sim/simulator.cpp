@@ -447,7 +447,6 @@ StepStats Simulator::advance() {
   s.roundoff_limited = r.roundoff_limited;
   s.floor_velocity = r.floor_velocity;
   s.line_search_halvings = r.line_search_halvings;
-  s.line_search_probes = r.line_search_probes;
   s.ccd_limited_steps = r.ccd_limited_steps;
   s.projected_fallbacks = r.projected_fallbacks;
   s.extrapolations = r.extrapolations;

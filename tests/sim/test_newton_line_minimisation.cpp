@@ -57,24 +57,37 @@ double valley_minimum(double m, double c, double eps) {
   return lo;
 }
 
+// The valley over one tet's 12 coordinates, the quadratic term pulling q_0 towards +1 (the
+// valley holds it near 0); Newton starts on the sliding side, q_0 = 1, where the valley's
+// curvature is c eps^2.
+struct Valley {
+  Valley(double m, double c, double eps)
+      : T((Tets(1, 4) << 0, 1, 2, 3).finished()), hessian(T, 4),
+        form(Eigen::VectorXd::Unit(12, 0), m, c, 0, eps), E(hessian) {
+    E.add(form, 1.0);
+  }
+  static Eigen::VectorXd start() { return Eigen::VectorXd::Unit(12, 0); }
+  Tets T;
+  SparseHessian hessian;
+  ValleyForm form;
+  IncrementalPotential E;
+};
+
+NewtonSettings unit_step_settings() {
+  NewtonSettings settings;
+  settings.time_step = 1;
+  return settings;
+}
+
 // One Newton iteration from q_0 = 1 (the solver then reports no convergence and leaves x at its
 // first iterate): the step moves q_0 alone, so the minimum along it is the valley's minimum.
 double after_one_iteration(double m, double c, double eps) {
-  Tets T(1, 4);
-  T << 0, 1, 2, 3;
-  SparseHessian hessian(T, 4);
-  Eigen::VectorXd target = Eigen::VectorXd::Zero(12);
-  target[0] = 1;
-  ValleyForm valley(target, m, c, 0, eps);
-  IncrementalPotential E(hessian);
-  E.add(valley, 1.0);
-  NewtonSettings settings;
-  settings.time_step = 1;
+  Valley valley(m, c, eps);
+  NewtonSettings settings = unit_step_settings();
   settings.max_iterations = 1;
   NewtonSolver newton(settings);
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(12);
-  x[0] = 1;
-  EXPECT_THROW(newton.minimize(E, x, "valley"), SolverError);
+  Eigen::VectorXd x = Valley::start();
+  EXPECT_THROW(newton.minimize(valley.E, x, "valley"), SolverError);
   return x[0];
 }
 
@@ -92,23 +105,13 @@ TEST(NewtonLineMinimisation, TheFirstIterateIsTheMinimumAlongTheStep) {
 }
 
 TEST(NewtonLineMinimisation, CrossesAFrictionLikeValleyInFewIterations) {
-  Tets T(1, 4);
-  T << 0, 1, 2, 3;
-  SparseHessian hessian(T, 4);
-  const double m = 1, c = 1e3, a = 0, eps = 1e-6;
-  Eigen::VectorXd target = Eigen::VectorXd::Zero(12);
-  target[0] = 1;  // the quadratic term pulls q_0 towards +1, the valley holds it near 0
-  ValleyForm valley(target, m, c, a, eps);
-  IncrementalPotential E(hessian);
-  E.add(valley, 1.0);
-
-  NewtonSettings settings;
-  settings.time_step = 1;
+  const double m = 1, c = 1e3, eps = 1e-6;
+  Valley valley(m, c, eps);
+  NewtonSettings settings = unit_step_settings();
   settings.velocity_tolerance = 1e-12;
   NewtonSolver newton(settings);
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(12);
-  x[0] = 1;  // on the sliding side: the valley's curvature there is c eps^2 ~ 1e-9
-  const NewtonResult r = newton.minimize(E, x, "valley");
+  Eigen::VectorXd x = Valley::start();
+  const NewtonResult r = newton.minimize(valley.E, x, "valley");
   std::printf("%d Newton iterations, %d halvings, %d line-minimisation probes, q_0 = %.3e\n", r.iterations,
               r.line_search_halvings, r.line_search_probes, x[0]);
   // The minimum, q_0 ~ m eps / c = 1e-9; the other coordinates stay at their target, 0.

@@ -20,7 +20,6 @@ struct StepStats {
   bool roundoff_limited = false;
   double floor_velocity = 0;
   int line_search_halvings = 0;
-  int line_search_probes = 0;    ///< energies of the line minimisation (newton_solver.cpp)
   int ccd_limited_steps = 0;
   int projected_fallbacks = 0;
   int extrapolations = 0;        ///< Newton step doublings (newton_solver.cpp)
