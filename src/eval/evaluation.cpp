@@ -560,6 +560,26 @@ RestitutionCalibration calibrate_contact_restitution(
   return c;
 }
 
+TwinCloseness twin_closeness(const SimulationRun& run, int first, int last) {
+  return [&run, first, last](const std::vector<std::vector<RigidState>>& states) {
+    const std::vector<StepObservables>& seen = run.observables;
+    if (seen.empty()) return 0.0;
+    // The object and the further bodies whose centres the run's observables hold.
+    const size_t tracked = std::min(states.size(), 1 + seen.front().body_centres.size());
+    double gap = 0;
+    for (size_t b = 0; b < tracked; ++b) {
+      const int stop = std::min(
+          {last, static_cast<int>(states[b].size()) - 1, static_cast<int>(seen.size()) - 1});
+      for (int k = std::max(first, 0); k <= stop; ++k) {
+        const Eigen::Vector3d& centre =
+            b == 0 ? seen[k].centre_of_mass : seen[k].body_centres[b - 1];
+        gap = std::max(gap, (states[b][k].position - centre).norm());
+      }
+    }
+    return gap;
+  };
+}
+
 namespace {
 
 // Fits each plane's restitution (rigid.plane_restitution, reset to 1 first) to a deformable run's
@@ -608,21 +628,7 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
     for (const Contact& later : contacts) {
       if (later.step > own_end) end = std::min(end, later.step);
     }
-    return [&run, first, end](const std::vector<std::vector<RigidState>>& states) {
-      const std::vector<StepObservables>& seen = run.observables;
-      double gap = 0;
-      for (size_t b = 0; b < states.size(); ++b) {
-        const int stop = std::min({end, static_cast<int>(states[b].size()) - 1,
-                                   static_cast<int>(seen.size()) - 1});
-        for (int k = std::max(first, 0); k <= stop; ++k) {
-          if (b > seen[k].body_centres.size()) break;
-          const Eigen::Vector3d& centre =
-              b == 0 ? seen[k].centre_of_mass : seen[k].body_centres[b - 1];
-          gap = std::max(gap, (states[b][k].position - centre).norm());
-        }
-      }
-      return gap;
-    };
+    return twin_closeness(run, first, end);
   };
   for (const Contact& contact : contacts) {
     if (contact.episode) {

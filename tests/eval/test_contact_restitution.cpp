@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -408,9 +409,12 @@ TEST(ContactEpisodes, ContactsWhileStillApproachingAreOneEpisode) {
 // body, a flat tet whose top face lies at z = 0 (four unit masses). Standing still, it sees both
 // corners as one episode; dropping away at 5 m/s at positions 5-6 and back at 7-8 (so that the
 // second corner meets it again at 9), it separates from the tet in between, though the tet
-// itself still falls: two episodes.
+// itself still falls: two episodes. Rising at 2 m/s at positions 5-6 instead (the corners held
+// 0.5 mm above its face, which ends 4 mm higher), it meets the tet falling at 0.8 m/s: the pair
+// approaches, though the sum of the two velocities points up: one episode.
 TEST(ContactEpisodes, APairJoinsCornersAlongItsRelativeVelocity) {
-  auto run_with = [&](bool other_drops) {
+  enum class Other { kStill, kDrops, kRises };
+  auto run_with = [&](Other other) {
     SimulationRun run;
     run.mesh.V.resize(8, 3);
     run.mesh.V << 0, 0, 0.1, 0.1, 0, 0.1, 0, 0.1, 1.0, 0, 0, 1.1,  //
@@ -431,10 +435,11 @@ TEST(ContactEpisodes, APairJoinsCornersAlongItsRelativeVelocity) {
     double com_z = 1.0, other_z = 0.0;
     for (int k = -3; k < 16; ++k) {
       com_z += 1e-3 * (k <= 3 ? -11.2 : k <= 9 ? -0.8 : 8.2);
-      if (other_drops && k >= 5 && k <= 8) other_z += 1e-3 * (k <= 6 ? -5.0 : 5.0);
+      if (other == Other::kDrops && k >= 5 && k <= 8) other_z += 1e-3 * (k <= 6 ? -5.0 : 5.0);
+      if (other == Other::kRises && (k == 5 || k == 6)) other_z += 1e-3 * 2.0;
       Eigen::VectorXd q(24);
-      q << 0, 0, (k == 3 || k == 4) ? 5e-4 : 0.1,  //
-          0.1, 0, k == 9 ? 5e-4 : 0.1,              //
+      q << 0, 0, other_z + ((k == 3 || k == 4) ? 5e-4 : 0.1),  //
+          0.1, 0, other_z + (k == 9 ? 5e-4 : 0.1),              //
           0, 0.1, com_z,                            //
           0, 0, com_z + 0.1,                        //
           -1, -1, other_z, 1, -1, other_z, 0, 1, other_z, 0, 0, other_z - 1;
@@ -447,15 +452,57 @@ TEST(ContactEpisodes, APairJoinsCornersAlongItsRelativeVelocity) {
     }
     return first_contact_episodes(run, {}, {}, 1e-3, 2);
   };
-  const std::vector<ContactEpisode> still = run_with(false);
+  const std::vector<ContactEpisode> still = run_with(Other::kStill);
   ASSERT_EQ(still.size(), 1u);
   EXPECT_EQ(still[0].kind, ContactEpisode::Kind::kBodies);
   EXPECT_EQ(still[0].first_step, 3);
   EXPECT_EQ(still[0].last_step, 9);
-  const std::vector<ContactEpisode> apart = run_with(true);
+  const std::vector<ContactEpisode> apart = run_with(Other::kDrops);
   ASSERT_EQ(apart.size(), 1u);  // the pair's first episode
   EXPECT_EQ(apart[0].first_step, 3);
   EXPECT_EQ(apart[0].last_step, 4);
+  const std::vector<ContactEpisode> towards = run_with(Other::kRises);
+  ASSERT_EQ(towards.size(), 1u);
+  EXPECT_EQ(towards[0].first_step, 3);
+  EXPECT_EQ(towards[0].last_step, 9);
+}
+
+// A twin's closeness to the run it is fitted to (which of several restitutions is kept): the
+// object and two further bodies, five grid positions, the twin's centres off the run's by 0.1 m
+// (the object, position 2), 0.3 m (the first further body, position 3) and 0.7 m (the second,
+// position 4); a fourth twin body the run does not track is far off and not counted.
+TEST(TwinCloseness, IsTheLargestGapOfAnyBodyOverTheWindow) {
+  SimulationRun run;
+  const Eigen::Vector3d a(0, 0, 1), b(2, 0, 1), c(0, 3, 1);
+  for (int k = 0; k < 5; ++k) {
+    StepObservables o;
+    o.centre_of_mass = a + Eigen::Vector3d(0.01 * k, 0, 0);
+    o.body_centres = {b + Eigen::Vector3d(0, 0.01 * k, 0), c + Eigen::Vector3d(0, 0, 0.01 * k)};
+    run.observables.push_back(o);
+  }
+  std::vector<std::vector<RigidState>> states(4, std::vector<RigidState>(5));
+  for (int k = 0; k < 5; ++k) {
+    states[0][k].position = run.observables[k].centre_of_mass;
+    states[1][k].position = run.observables[k].body_centres[0];
+    states[2][k].position = run.observables[k].body_centres[1];
+    states[3][k].position = Eigen::Vector3d(100, 100, 100);
+  }
+  states[0][2].position.x() += 0.1;
+  states[1][3].position.y() -= 0.3;
+  states[2][4].position.z() += 0.7;
+  EXPECT_NEAR(twin_closeness(run, 0, 4)(states), 0.7, 1e-12);
+  EXPECT_NEAR(twin_closeness(run, 0, 3)(states), 0.3, 1e-12);
+  EXPECT_NEAR(twin_closeness(run, 3, 3)(states), 0.3, 1e-12);
+  EXPECT_NEAR(twin_closeness(run, -1, 2)(states), 0.1, 1e-12);
+  EXPECT_EQ(twin_closeness(run, 0, 1)(states), 0.0);
+  // Past the run's last position (a window "until the end") and past a twin body's own states.
+  EXPECT_NEAR(twin_closeness(run, 0, std::numeric_limits<int>::max())(states), 0.7, 1e-12);
+  states[2].resize(4);
+  EXPECT_NEAR(twin_closeness(run, 0, 4)(states), 0.3, 1e-12);
+  // A run of the object alone is compared on the object only.
+  SimulationRun alone = run;
+  for (StepObservables& o : alone.observables) o.body_centres.clear();
+  EXPECT_NEAR(twin_closeness(alone, 0, 4)(states), 0.1, 1e-12);
 }
 
 }  // namespace

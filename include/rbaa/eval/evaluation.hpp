@@ -217,6 +217,12 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b);
 /// is fitted to; smaller is closer. Picks among restitutions that all give the fitted rebound.
 using TwinCloseness = std::function<double(const std::vector<std::vector<RigidState>>&)>;
 
+/// The closeness of a twin's run (states[b][k]: body b at grid position k, the object first) to
+/// `run` over grid positions first .. last: the largest distance of any body's centre of mass from
+/// the run's at the same position (run.observables: the object's centre and the further bodies'),
+/// over the positions and bodies both hold. Reads `run` when called: it must outlive the result.
+TwinCloseness twin_closeness(const SimulationRun& run, int first, int last);
+
 /// Fits the restitution of plane `plane` (settings.plane_restitution) so that the rigid
 /// reference's first rebound off it (the ratio of the centre of mass's normal velocities after and
 /// before) equals `target`. `further`: the scene's other bodies' twins (simulate_rigid).
