@@ -44,8 +44,39 @@ RunTrace trace_from_rigid(const std::string& name, const std::vector<RigidState>
   return t;
 }
 
+// Body `body`'s path in a deformable run (the whole mesh for a run of one body), on the grid of
+// h: the centre of mass and best-fit rotation of its vertices (weighted by the run's vertex
+// masses), its centre-of-mass velocity, its bounding radius from the rest positions. Unnamed.
+BodyPath deformable_body_path(const SimulationRun& run, int body) {
+  int begin = 0, count = static_cast<int>(run.vertex_masses.size());
+  if (!run.bodies.empty()) {
+    const Body& b = run.bodies.at(body);
+    begin = b.vertex_begin;
+    count = b.num_vertices();
+  }
+  const Eigen::VectorXd m = run.vertex_masses.segment(begin, count);
+  const auto part = [&](const Eigen::VectorXd& x) {
+    return Eigen::VectorXd(x.segment(3 * begin, 3 * count));
+  };
+  const Trajectory& traj = run.trajectory;
+  const Eigen::VectorXd rest = part(traj.q[0]);
+  BodyPath p;
+  for (int k : traj.grid_frames()) {  // step by step with the rigid twin
+    const Eigen::VectorXd x = part(traj.q[k]);
+    p.time.push_back(traj.time(k));
+    p.centre.push_back(centre_of_mass(x, m));
+    p.velocity.push_back(body_velocity(run, body, k));
+    p.rotation.push_back(best_fit_rotation(rest, x, m));
+  }
+  const Eigen::MatrixXd V =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(rest.data(),
+                                                                                  count, 3);
+  p.bounding_radius = bounding_radius(V, p.centre.front());
+  return p;
+}
+
 // The trace of body `body` of a deformable run (0: the object, whose observables the run holds;
-// i > 0: the scene's bodies[i - 1], from the trajectory with its vertex masses, as the object's).
+// i > 0: the scene's bodies[i - 1], its deformable_body_path).
 RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run, int body = 0) {
   RunTrace t;
   t.name = name;
@@ -59,54 +90,22 @@ RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run
     }
     return t;
   }
-  const Body& b = run.bodies.at(body);
-  const Eigen::VectorXd m = run.vertex_masses.segment(b.vertex_begin, b.num_vertices());
-  const auto part = [&](const Eigen::VectorXd& x) {
-    return Eigen::VectorXd(x.segment(3 * b.vertex_begin, 3 * b.num_vertices()));
-  };
-  const Trajectory& traj = run.trajectory;
-  for (int k : traj.grid_frames()) {  // step by step with the rigid twin
-    t.time.push_back(traj.time(k));
-    t.position.push_back(centre_of_mass(part(traj.q[k]), m));
-    t.velocity.push_back(body_velocity(run, body, k));
-    t.orientation.push_back(best_fit_rotation(part(traj.q[0]), part(traj.q[k]), m));
-  }
+  BodyPath p = deformable_body_path(run, body);
+  t.time = std::move(p.time);
+  t.position = std::move(p.centre);
+  t.velocity = std::move(p.velocity);
+  t.orientation = std::move(p.rotation);
   return t;
 }
 
 // Every body's path in a deformable run (the object, then the scene's bodies), for the
-// demonstration's predicates: centre of mass and best-fit rotation of its vertices (weighted by
-// the run's vertex masses), its bounding radius from the rest positions.
+// demonstration's predicates.
 std::vector<BodyPath> paths_from_deformable(const Scene& scene, const SimulationRun& run) {
-  std::vector<std::pair<int, int>> ranges;  // first vertex, count
-  if (run.bodies.empty()) {
-    ranges.emplace_back(0, static_cast<int>(run.vertex_masses.size()));
-  } else {
-    for (const Body& b : run.bodies) ranges.emplace_back(b.vertex_begin, b.num_vertices());
-  }
+  const int bodies = std::max<int>(1, static_cast<int>(run.bodies.size()));
   std::vector<BodyPath> paths;
-  const Trajectory& traj = run.trajectory;
-  for (size_t i = 0; i < ranges.size(); ++i) {
-    const auto [begin, count] = ranges[i];
-    BodyPath p;
-    p.name = body_name(scene, static_cast<int>(i));
-    const Eigen::VectorXd m = run.vertex_masses.segment(begin, count);
-    const auto part = [&](const Eigen::VectorXd& x) {
-      return Eigen::VectorXd(x.segment(3 * begin, 3 * count));
-    };
-    const Eigen::VectorXd rest = part(traj.q[0]);
-    for (int k : traj.grid_frames()) {
-      const Eigen::VectorXd x = part(traj.q[k]);
-      p.time.push_back(traj.time(k));
-      p.centre.push_back(centre_of_mass(x, m));
-      p.velocity.push_back(body_velocity(run, static_cast<int>(i), k));
-      p.rotation.push_back(best_fit_rotation(rest, x, m));
-    }
-    const Eigen::MatrixXd V =
-        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(rest.data(),
-                                                                                    count, 3);
-    p.bounding_radius = bounding_radius(V, p.centre.front());
-    paths.push_back(std::move(p));
+  for (int i = 0; i < bodies; ++i) {
+    paths.push_back(deformable_body_path(run, i));
+    paths.back().name = body_name(scene, i);
   }
   return paths;
 }
