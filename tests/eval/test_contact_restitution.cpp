@@ -480,7 +480,9 @@ TEST(TwinCloseness, IsTheLargestGapOfAnyBodyOverTheWindow) {
     o.body_centres = {b + Eigen::Vector3d(0, 0.01 * k, 0), c + Eigen::Vector3d(0, 0, 0.01 * k)};
     run.observables.push_back(o);
   }
-  std::vector<std::vector<RigidState>> states(4, std::vector<RigidState>(5));
+  // The twin runs one position longer than the run's observables: far off there, never compared.
+  std::vector<std::vector<RigidState>> states(4, std::vector<RigidState>(6));
+  for (auto& body : states) body[5].position = Eigen::Vector3d(100, 100, 100);
   for (int k = 0; k < 5; ++k) {
     states[0][k].position = run.observables[k].centre_of_mass;
     states[1][k].position = run.observables[k].body_centres[0];
