@@ -152,7 +152,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
           x = trial;
           E.solution_changed(x);
           g = E.gradient(x);
-          ++result.subspace_steps;
         }
       }
       lap(t0, result.line_search_seconds);
@@ -242,7 +241,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
 
     // Line search: start at the largest admissible fraction (CCD), halve until E decreases.
     double alpha = E.max_step_size(x, x + dq);
-    if (alpha < 1.0) ++result.ccd_limited_steps;
     const double alpha0 = alpha;
     Eigen::VectorXd trial;
     int halvings = 0;
@@ -258,7 +256,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
         Eigen::VectorXd g_trial = E.gradient(trial);
         if (g_trial.norm() < g.norm()) {
           gradient_accepted = true;
-          ++result.gradient_accepted_steps;
           carried_gradient = std::move(g_trial);
         }
       }

@@ -443,11 +443,8 @@ StepStats Simulator::advance() {
   StepStats s;
   s.newton_iterations = r.iterations;
   s.exact_factor = r.exact_factor;
-  s.step_velocity = r.step_velocity;
   s.roundoff_limited = r.roundoff_limited;
   s.floor_velocity = r.floor_velocity;
-  s.line_search_halvings = r.line_search_halvings;
-  s.ccd_limited_steps = r.ccd_limited_steps;
   s.projected_fallbacks = r.projected_fallbacks;
   s.extrapolations = r.extrapolations;
   s.chord_steps = r.chord_steps;

@@ -60,9 +60,7 @@ struct NewtonResult {
   double step_velocity = 0;       ///< ||dq||_inf / h of the final, unapplied step (m/s)
   int line_search_halvings = 0;   ///< summed over the iterations
   int line_search_probes = 0;     ///< energies of the line minimisation after backtracking
-  int ccd_limited_steps = 0;      ///< steps shortened by the forms' max_step_size
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
-  int subspace_steps = 0;         ///< sub-steps taken (set_subspace_step), no factorisation each
   int extrapolations = 0;         ///< step doublings taken after full steps (newton_solver.cpp)
   int chord_steps = 0;            ///< chord steps taken on the previous call's factor (0 or 1)
   /// Stopped above the tolerance at the round-off floor: kFloorWindow steps in a row, all below
@@ -70,9 +68,6 @@ struct NewtonResult {
   /// progress at all, only noise). step_velocity is then the floor's latest step and
   /// floor_velocity the slowest step seen.
   bool roundoff_limited = false;
-  /// Steps taken because they lowered the gradient's norm where the energy change was below its
-  /// rounding (newton_solver.cpp).
-  int gradient_accepted_steps = 0;
   double floor_velocity = 0;
   // Where the time went (wall seconds, summed over the iterations).
   double gradient_seconds = 0;       ///< energy gradients

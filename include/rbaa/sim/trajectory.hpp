@@ -14,13 +14,10 @@ namespace rbaa {
 struct StepStats {
   int newton_iterations = 0;     ///< Hessians factorised (incl. the final convergence check)
   bool exact_factor = false;     ///< the last factor is of the exact Hessian at the returned q
-  double step_velocity = 0;      ///< final Newton step's ||dq||_inf / h (m/s)
   /// Newton stopped above its tolerance at the round-off floor (NewtonResult::roundoff_limited);
   /// floor_velocity is the slowest step it reached
   bool roundoff_limited = false;
   double floor_velocity = 0;
-  int line_search_halvings = 0;
-  int ccd_limited_steps = 0;
   int projected_fallbacks = 0;
   int extrapolations = 0;        ///< Newton step doublings (newton_solver.cpp)
   int chord_steps = 0;           ///< chord steps on the previous step's factor (0 or 1)
