@@ -31,17 +31,33 @@ double angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
 }
 
-RunTrace trace_from_rigid(const std::string& name, const std::vector<RigidState>& states, double seconds) {
+// A body's path in a rigid run (Bullet's states, on the grid of h). Unnamed, no bounding radius.
+BodyPath rigid_body_path(const std::vector<RigidState>& states) {
+  BodyPath p;
+  for (const RigidState& s : states) {
+    p.time.push_back(s.time);
+    p.centre.push_back(s.position);
+    p.velocity.push_back(s.velocity);
+    p.rotation.push_back(s.orientation);
+  }
+  return p;
+}
+
+// A body's path as a run's trace (the same record, named for the comparisons, with the run's wall
+// time).
+RunTrace trace_from_path(const std::string& name, BodyPath p, double seconds) {
   RunTrace t;
   t.name = name;
   t.seconds = seconds;
-  for (const auto& s : states) {
-    t.time.push_back(s.time);
-    t.position.push_back(s.position);
-    t.velocity.push_back(s.velocity);
-    t.orientation.push_back(s.orientation);
-  }
+  t.time = std::move(p.time);
+  t.position = std::move(p.centre);
+  t.velocity = std::move(p.velocity);
+  t.orientation = std::move(p.rotation);
   return t;
+}
+
+RunTrace trace_from_rigid(const std::string& name, const std::vector<RigidState>& states, double seconds) {
+  return trace_from_path(name, rigid_body_path(states), seconds);
 }
 
 // Body `body`'s path in a deformable run (the whole mesh for a run of one body), on the grid of
@@ -78,23 +94,17 @@ BodyPath deformable_body_path(const SimulationRun& run, int body) {
 // The trace of body `body` of a deformable run (0: the object, whose observables the run holds;
 // i > 0: the scene's bodies[i - 1], its deformable_body_path).
 RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run, int body = 0) {
+  const double seconds = run.setup_seconds + run.simulate_seconds;
+  if (body != 0) return trace_from_path(name, deformable_body_path(run, body), seconds);
   RunTrace t;
   t.name = name;
-  t.seconds = run.setup_seconds + run.simulate_seconds;
-  if (body == 0) {
-    for (const auto& o : run.observables) {
-      t.time.push_back(o.time);
-      t.position.push_back(o.centre_of_mass);
-      t.velocity.push_back(o.com_velocity);
-      t.orientation.push_back(o.orientation);
-    }
-    return t;
+  t.seconds = seconds;
+  for (const auto& o : run.observables) {
+    t.time.push_back(o.time);
+    t.position.push_back(o.centre_of_mass);
+    t.velocity.push_back(o.com_velocity);
+    t.orientation.push_back(o.orientation);
   }
-  BodyPath p = deformable_body_path(run, body);
-  t.time = std::move(p.time);
-  t.position = std::move(p.centre);
-  t.velocity = std::move(p.velocity);
-  t.orientation = std::move(p.rotation);
   return t;
 }
 
@@ -116,15 +126,9 @@ std::vector<BodyPath> paths_from_rigid(const std::vector<std::vector<RigidState>
                                        const std::vector<BodyPath>& shapes) {
   std::vector<BodyPath> paths;
   for (size_t i = 0; i < states.size() && i < shapes.size(); ++i) {
-    BodyPath p;
+    BodyPath p = rigid_body_path(states[i]);
     p.name = shapes[i].name;
     p.bounding_radius = shapes[i].bounding_radius;
-    for (const RigidState& s : states[i]) {
-      p.time.push_back(s.time);
-      p.centre.push_back(s.position);
-      p.velocity.push_back(s.velocity);
-      p.rotation.push_back(s.orientation);
-    }
     paths.push_back(std::move(p));
   }
   return paths;
