@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -278,7 +279,9 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   EvaluationOptions options;
   options.duration = 0.2;
   options.time_step = scene.time_step;
+  const auto clock_start = std::chrono::steady_clock::now();
   const Evaluation ev = evaluate(scene, mesh, mesh, adv, options);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
 
   // Calibration: the rigid reference reproduces the baseline's first rebound within 1 %.
   ASSERT_EQ(ev.calibrations.size(), 1u);
@@ -293,6 +296,14 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   EXPECT_EQ(ev.deformable_adversarial.position.size(), 21u);
   EXPECT_NEAR((ev.reference_moments.as_vector() - ev.adversarial_moments.as_vector()).norm() /
                   ev.reference_moments.m0, 0.0, 1e-10);
+
+  // Each deformable run's wall time (report.json's timing_s, the outcome table's wall column) is
+  // its own, its set-up and its steps: positive (its 20 steps take ~25x its set-up) and within the
+  // whole evaluation's.
+  for (const RunTrace* t : {&ev.deformable_reference, &ev.deformable_adversarial, &ev.deformable_soft}) {
+    EXPECT_GT(t->seconds, 0) << t->name;
+    EXPECT_LT(t->seconds, wall) << t->name;
+  }
 
   const std::string dir = ::testing::TempDir() + "/rbaa_eval_" + std::to_string(::getpid());
   write_evaluation(ev, scene, dir);
