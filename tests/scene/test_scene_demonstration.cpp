@@ -158,6 +158,17 @@ TEST(SceneDemonstration, TheShippedDemonstrationsLoad) {
   EXPECT_EQ(bat.driven.motion.centre, attack.driven.motion.centre);
   EXPECT_EQ(bat.rotation_angle_deg, attack.rotation_angle_deg);
   EXPECT_EQ(bat.kappa, attack.kappa);
+  // configs/bat_accurate.yaml attacks the same scene at the discretisation the demonstration
+  // evaluates at: h = 1 ms with contact-resolving steps.
+  const Scene accurate = load_scene(std::string(RBAA_SOURCE_DIR) + "/configs/bat_accurate.yaml");
+  EXPECT_EQ(accurate.position, attack.position);
+  EXPECT_EQ(accurate.bodies.at(0).position, attack.bodies.at(0).position);
+  EXPECT_EQ(accurate.driven.motion.centre, attack.driven.motion.centre);
+  EXPECT_EQ(accurate.rotation_angle_deg, attack.rotation_angle_deg);
+  EXPECT_EQ(accurate.kappa, attack.kappa);
+  EXPECT_GT(bat.contact_substeps, 0);
+  EXPECT_EQ(bat.contact_substeps, accurate.contact_substeps);
+  EXPECT_DOUBLE_EQ(bat.evaluation_time_step, accurate.time_step);
 }
 
 }  // namespace
