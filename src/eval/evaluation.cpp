@@ -91,21 +91,11 @@ BodyPath deformable_body_path(const SimulationRun& run, int body) {
   return p;
 }
 
-// The trace of body `body` of a deformable run (0: the object, whose observables the run holds;
-// i > 0: the scene's bodies[i - 1], its deformable_body_path).
+// The trace of body `body` of a deformable run (0: the object, i > 0: the scene's bodies[i - 1]).
+// For the object this is its observables' motion to the bit (simulate.cpp computes them with the
+// same masses, grid frames and functions).
 RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run, int body = 0) {
-  const double seconds = run.setup_seconds + run.simulate_seconds;
-  if (body != 0) return trace_from_path(name, deformable_body_path(run, body), seconds);
-  RunTrace t;
-  t.name = name;
-  t.seconds = seconds;
-  for (const auto& o : run.observables) {
-    t.time.push_back(o.time);
-    t.position.push_back(o.centre_of_mass);
-    t.velocity.push_back(o.com_velocity);
-    t.orientation.push_back(o.orientation);
-  }
-  return t;
+  return trace_from_path(name, deformable_body_path(run, body), run.setup_seconds + run.simulate_seconds);
 }
 
 // Every body's path in a deformable run (the object, then the scene's bodies), for the
