@@ -25,17 +25,10 @@ namespace {
 using rbaa_cli_test::Cli;
 using rbaa_cli_test::Result;
 
-// The tiny ball at 10 m/s: its contact step needs ~12 .. 14 Newton iterations.
-const char* const kFastTinyBall =
-    "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
-    "object: {position: [0, -0.13, 0.5], velocity: [0, 10.0, 0]}\n"
-    "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
-    "gravity: off\n"
-    "time: {step: 0.01, duration: 0.05}\n";
-
-// The tiny ball at `speed` m/s, its attack at Adam's `learning_rate`. The stop-early test needs an
-// early Adam design that needs more Newton iterations than the reference and the designs before
-// it, and Newton's counts are flat: since Newton minimises along its backtracked steps
+// The tiny ball (r = 0.1 m, 300 tets) thrown at a plane at `speed` m/s, its attack at Adam's
+// `learning_rate` (0.05 is the default). The stop-early test needs an early Adam design that
+// needs more Newton iterations than the reference and the designs before it, and Newton's counts
+// are flat: since Newton minimises along its backtracked steps
 // (newton_solver.cpp) most designs need 12. Which scene gives such a design depends on the
 // machine's rounding, so the test tries kStopScenes in turn and uses the first that does.
 // Measured 2026-11-28, each scene alone giving the test its case (reference: designs 0 .. 6):
@@ -155,7 +148,7 @@ TEST_F(CliAttackOutcomes, StoppedEarlyWritesTheFailedDesignAndResumes) {
 // their bounds in two polish steps, and the re-fit cannot bring the moments back (measured: max
 // normalised residual 11.8 at Ceres' convergence). Before, the whole attack failed at its end.
 TEST_F(CliAttackOutcomes, PolishThatFailsIsNotKept) {
-  const std::string config = write_file("fast.yaml", kFastTinyBall);
+  const std::string config = write_file("fast.yaml", tiny_ball(10.0, 0.05));
   const std::string base = "attack --config=" + config + " --iterations=0 --set=attack.learning_rate=50";
   ASSERT_EQ(run(base + " --out=" + path("p0")).exit_code, 0);
   const Result r = run(base + " --set=attack.polish_iterations=2 --out=" + path("nk"));
