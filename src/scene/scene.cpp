@@ -8,6 +8,8 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -17,13 +19,50 @@
 namespace rbaa {
 namespace {
 
+// Which file each node of a config was written in: the config itself, or a file it builds on
+// through `base:` (the merged document keeps every node's own line), so that an error names the
+// file and line a person has to open.
+class ConfigOrigin {
+ public:
+  explicit ConfigOrigin(std::string file) : file_(std::move(file)) {}
+
+  // Records every node (keys included) of a base document read from `file`.
+  void add(const YAML::Node& node, const std::string& file) {
+    if (!node) return;
+    nodes_.emplace_back(node, file);
+    if (node.IsMap()) {
+      for (const auto& kv : node) {
+        add(kv.first, file);
+        add(kv.second, file);
+      }
+    } else if (node.IsSequence()) {
+      for (const auto& item : node) add(item, file);
+    }
+  }
+
+  const std::string& file_of(const YAML::Node& node) const {
+    if (node) {
+      for (const auto& [base_node, file] : nodes_) {
+        if (node.is(base_node)) return file;
+      }
+    }
+    return file_;
+  }
+
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  std::vector<std::pair<YAML::Node, std::string>> nodes_;  // searched on errors only
+};
+
 // Reads one YAML mapping against a fixed set of keys: every read names the key it consumes, and
 // finish() rejects whatever was not consumed, so a misspelt key is an error rather than silently
 // ignored. Errors read "FILE:LINE: key 'a.b': what is wrong".
 class MapReader {
  public:
-  MapReader(YAML::Node node, std::string source, std::string prefix)
-      : node_(std::move(node)), source_(std::move(source)), prefix_(std::move(prefix)) {
+  MapReader(YAML::Node node, const ConfigOrigin& source, std::string prefix)
+      : node_(std::move(node)), source_(&source), prefix_(std::move(prefix)) {
     if (node_ && !node_.IsNull() && !node_.IsMap()) fail(node_, "", "expected a mapping of keys");
   }
 
@@ -39,7 +78,7 @@ class MapReader {
 
   [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& what) const {
     std::ostringstream msg;
-    msg << source_;
+    msg << source_->file_of(at);
     if (at && at.Mark().line >= 0) msg << ":" << at.Mark().line + 1;
     msg << ": ";
     if (!key.empty() || !prefix_.empty()) msg << "key '" << full(key) << "': ";
@@ -47,7 +86,7 @@ class MapReader {
     throw InputError(msg.str());
   }
 
-  const std::string& source() const { return source_; }
+  const ConfigOrigin& source() const { return *source_; }
   std::string full(const std::string& key) const {
     if (prefix_.empty()) return key;
     return key.empty() ? prefix_ : prefix_ + "." + key;
@@ -141,7 +180,7 @@ class MapReader {
 
  private:
   YAML::Node node_;
-  std::string source_;
+  const ConfigOrigin* source_;  // outlives the reader: parse_scene's
   std::string prefix_;
   std::set<std::string> seen_;
 };
@@ -179,10 +218,88 @@ void apply_override(YAML::Node& root, const std::string& assignment) {
   chain.back()[parts.back()] = value;
 }
 
+YAML::Node load_yaml(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    std::ostringstream msg;
+    msg << source << ":" << e.mark.line + 1 << ": invalid YAML: " << e.msg;
+    throw InputError(msg.str());
+  }
+  if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  return root;
+}
+
+// `over` laid over `under`: mappings merge key by key, anything else (a number, a list such as
+// `bodies`) replaces what it lands on. A new document: neither input's nodes are changed, so
+// every node keeps the identity ConfigOrigin recorded.
+YAML::Node merged(const YAML::Node& under, const YAML::Node& over) {
+  if (!under.IsMap() || !over.IsMap()) return over;
+  YAML::Node out(YAML::NodeType::Map);
+  for (const auto& kv : under) {
+    const YAML::Node mine = over[kv.first.as<std::string>()];
+    if (!mine) out[kv.first] = kv.second;
+  }
+  for (const auto& kv : over) {
+    const YAML::Node theirs = under[kv.first.as<std::string>()];
+    out[kv.first] = theirs ? merged(theirs, kv.second) : kv.second;
+  }
+  return out;
+}
+
+// A config's top-level `base: FILE` (a file beside it): the config is FILE's document (with its
+// own base, if any) with this one's keys laid over it. The base's `name` is not inherited (a
+// config without one is named after its own file). `chain` holds the files being read, to
+// refuse a cycle.
+YAML::Node with_base(const YAML::Node& root, ConfigOrigin& origin, const std::string& base_dir,
+                     std::vector<std::string>& chain) {
+  if (!root.IsMap() || !root["base"]) return root;
+  const YAML::Node ref = root["base"];
+  const std::string& file = origin.file_of(ref);
+  const auto fail = [&](const std::string& what) {
+    std::ostringstream msg;
+    msg << file << ":" << ref.Mark().line + 1 << ": key 'base': " << what;
+    throw InputError(msg.str());
+  };
+  if (!ref.IsScalar() || ref.Scalar().empty()) fail("expected a file name");
+  const std::string name = ref.Scalar();
+  if (std::filesystem::path(name).filename().string() != name) {
+    fail("'" + name + "' must be a file beside this config (its relative paths resolve from here)");
+  }
+  const std::string path = resolve(name, base_dir);
+  for (const auto& reading : chain) {
+    if (std::filesystem::weakly_canonical(reading) == std::filesystem::weakly_canonical(path)) {
+      std::string cycle;
+      for (const auto& c : chain) cycle += std::filesystem::path(c).filename().string() + " -> ";
+      fail("'" + name + "' is already being read (" + cycle + name + ")");
+    }
+  }
+  std::ifstream in(path);
+  if (!in) fail("cannot open '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  chain.push_back(path);
+  const YAML::Node base_doc = load_yaml(text.str(), path);
+  if (!base_doc.IsMap()) fail("'" + path + "' is not a mapping of keys");
+  origin.add(base_doc, path);
+  YAML::Node under = with_base(base_doc, origin, base_dir, chain);
+  chain.pop_back();
+  YAML::Node over(YAML::NodeType::Map);
+  for (const auto& kv : root) {
+    if (kv.first.as<std::string>() != "base") over[kv.first] = kv.second;
+  }
+  YAML::Node inherited(YAML::NodeType::Map);
+  for (const auto& kv : under) {
+    if (kv.first.as<std::string>() != "name") inherited[kv.first] = kv.second;
+  }
+  return merged(inherited, over);
+}
+
 const std::set<std::string> kFields = {"Y", "nu", "rho", "alpha"};
 
 // A mesh source (the top-level `mesh` or a body's): exactly one of shape, surface, file.
-MeshSource read_mesh_source(const YAML::Node& node, const std::string& source,
+MeshSource read_mesh_source(const YAML::Node& node, const ConfigOrigin& source,
                             const std::string& key, const std::string& base_dir) {
   const double inf = std::numeric_limits<double>::infinity();
   MapReader m(node, source, key);
@@ -322,24 +439,18 @@ const char* objective_kind_name(ObjectiveSpec::Kind kind) {
   return "?";
 }
 
-Scene parse_scene(const std::string& yaml_text, const std::string& source,
+Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
                   const std::string& base_dir, const std::vector<std::string>& overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    std::ostringstream msg;
-    msg << source << ":" << e.mark.line + 1 << ": invalid YAML: " << e.msg;
-    throw InputError(msg.str());
-  }
-  if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  ConfigOrigin source(source_name);
+  std::vector<std::string> chain{source_name};
+  YAML::Node root = with_base(load_yaml(yaml_text, source_name), source, base_dir, chain);
   for (const auto& o : overrides) apply_override(root, o);
 
   const double inf = std::numeric_limits<double>::infinity();
   Scene s;
-  s.source = source;
+  s.source = source_name;
   MapReader top(root, source, "");
-  s.name = top.text("name", std::filesystem::path(source).stem().string());
+  s.name = top.text("name", std::filesystem::path(source_name).stem().string());
 
   if (!top.has("mesh")) top.fail(root, "mesh", "missing (give shape, surface or file)");
   s.mesh = read_mesh_source(top.child("mesh"), source, "mesh", base_dir);
@@ -418,7 +529,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source,
           surface = read_triangle_soup(o.file);
         } catch (const InputError& e) {
           std::ostringstream msg;
-          msg << source << ":" << meshes[i].Mark().line + 1 << ": key '" << key << ".file': " << e.what();
+          msg << source.file_of(meshes[i]) << ":" << meshes[i].Mark().line + 1 << ": key '" << key
+              << ".file': " << e.what();
           throw InputError(msg.str());
         }
         // x = position + R (scale x_file)

@@ -294,7 +294,8 @@ struct Scene {
 };
 
 /// Loads and validates a scene. `overrides` are "key.path=value" assignments applied to the YAML
-/// before validation (the command line's --set). Relative file paths are resolved against the
+/// before validation (the command line's --set), after a top-level `base: FILE` (a config beside
+/// this one) has been merged under the document. Relative file paths are resolved against the
 /// config's folder. Throws rbaa::InputError naming the file and key on unknown keys, wrong types,
 /// NaN or out-of-range values.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});

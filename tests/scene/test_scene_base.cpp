@@ -1,0 +1,179 @@
+// `base: FILE`: a config laid over a config beside it (mappings merge key by key, lists and
+// numbers replace, the base's name is not inherited, --set applies last), parsing to the scene the
+// same config written out in full would; every bad `base` a one-line error, and an error inside a
+// base names the base's file and line, not the config that uses it.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "rbaa/error.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_fingerprint.hpp"
+
+namespace rbaa {
+namespace {
+
+std::string path(const std::string& name) {
+  return (std::filesystem::path(::testing::TempDir()) / name).lexically_normal().string();
+}
+
+void write(const std::string& name, const std::string& text) { std::ofstream(path(name)) << text; }
+
+std::string load_error(const std::string& name) {
+  try {
+    load_scene(path(name));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kBase =
+    "name: base_scene\n"                          // 1
+    "mesh: {shape: cube, target_tets: 300}\n"     // 2
+    "object:\n"                                   // 3
+    "  position: [0, 0, 0.5]\n"                   // 4
+    "  velocity: [0, 0, -1]\n"                    // 5
+    "obstacles:\n"                                // 6
+    "  planes:\n"                                 // 7
+    "    - {normal: [0, 0, 1], offset: 0}\n"      // 8
+    "    - {normal: [0, -1, 0], offset: 2}\n"     // 9
+    "time:\n"                                     // 10
+    "  step: 0.01\n"                              // 11
+    "  duration: 0.5\n"                           // 12
+    "evaluation: {duration: 2.0}\n";              // 13
+
+const char* kOver =
+    "base: base_scene.yaml\n"
+    "object: {velocity: [0, 0, -3]}\n"
+    "obstacles:\n"
+    "  planes: [{normal: [0, 0, 1], offset: -0.5}]\n"
+    "time: {step: 0.005}\n";
+
+// kOver on kBase, written out in full by hand.
+const char* kWrittenOut =
+    "mesh: {shape: cube, target_tets: 300}\n"
+    "object:\n"
+    "  position: [0, 0, 0.5]\n"
+    "  velocity: [0, 0, -3]\n"
+    "obstacles:\n"
+    "  planes: [{normal: [0, 0, 1], offset: -0.5}]\n"
+    "time:\n"
+    "  step: 0.005\n"
+    "  duration: 0.5\n"
+    "evaluation: {duration: 2.0}\n";
+
+TEST(SceneBase, MappingsMergeListsAndNumbersReplaceTheNameIsTheConfigsOwn) {
+  write("base_scene.yaml", kBase);
+  write("over.yaml", kOver);
+  const Scene s = load_scene(path("over.yaml"));
+  EXPECT_EQ(s.name, "over");  // its file's stem: the base's name is not inherited
+  EXPECT_EQ(s.time_step, 0.005);
+  EXPECT_EQ(s.duration, 0.5);  // time.duration from the base beside the overridden step
+  EXPECT_EQ(s.position, Eigen::Vector3d(0, 0, 0.5));
+  EXPECT_EQ(s.velocity, Eigen::Vector3d(0, 0, -3));
+  ASSERT_EQ(s.planes.size(), 1u);  // the list replaced, not appended to
+  EXPECT_EQ(s.planes[0].offset, -0.5);
+  EXPECT_EQ(s.evaluation_duration, 2.0);
+  EXPECT_EQ(s.source, path("over.yaml"));
+
+  write("named.yaml", std::string(kOver) + "name: my_scene\n");
+  EXPECT_EQ(load_scene(path("named.yaml")).name, "my_scene");
+}
+
+TEST(SceneBase, ParsesToTheSceneTheConfigWrittenInFullGives) {
+  write("base_scene.yaml", kBase);
+  write("over.yaml", kOver);
+  write("over_in_full.yaml", kWrittenOut);
+  Scene based = load_scene(path("over.yaml"));
+  Scene full = load_scene(path("over_in_full.yaml"));
+  full.name = based.name;  // named after their files
+  EXPECT_EQ(scene_fingerprint_text(based), scene_fingerprint_text(full));
+  EXPECT_EQ(based.evaluation_duration, full.evaluation_duration);
+}
+
+TEST(SceneBase, BasesChainAndTheCommandLinesSetAppliesLast) {
+  write("base_scene.yaml", kBase);
+  write("over.yaml", kOver);
+  write("over_over.yaml", "base: over.yaml\ntime: {duration: 0.75}\n");
+  const Scene chained = load_scene(path("over_over.yaml"));
+  EXPECT_EQ(chained.time_step, 0.005);  // over.yaml's
+  EXPECT_EQ(chained.duration, 0.75);    // its own
+  EXPECT_EQ(chained.position, Eigen::Vector3d(0, 0, 0.5));  // base_scene.yaml's
+  const Scene set = load_scene(path("over_over.yaml"), {"time.step=0.002", "object.position=[0, 0, 1]"});
+  EXPECT_EQ(set.time_step, 0.002);
+  EXPECT_EQ(set.position, Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(set.velocity, Eigen::Vector3d(0, 0, -3));
+}
+
+TEST(SceneBase, ErrorsNameTheFileAndLineTheyAreWrittenIn) {
+  write("base_scene.yaml", kBase);
+  // In the base: its own file and line, whichever config uses it.
+  std::string bad_base = kBase;
+  bad_base.replace(bad_base.find("duration: 0.5"), 13, "duration: -3");
+  write("bad_base.yaml", bad_base);
+  write("uses_bad_base.yaml", "# a comment\nbase: bad_base.yaml\ntime: {step: 0.005}\n");
+  EXPECT_EQ(load_error("uses_bad_base.yaml"),
+            path("bad_base.yaml") + ":12: key 'time.duration': value -3 is outside (0, 1e+06]");
+  // In the config over it: its own.
+  write("bad_over.yaml", "base: base_scene.yaml\n\ntime: {step: -1}\n");
+  EXPECT_EQ(load_error("bad_over.yaml"),
+            path("bad_over.yaml") + ":3: key 'time.step': value -1 is outside (0, 1]");
+  write("unknown.yaml", "base: base_scene.yaml\ntime: {stepp: 1}\n");
+  EXPECT_EQ(load_error("unknown.yaml"), path("unknown.yaml") + ":2: key 'time.stepp': unknown key");
+
+  write("missing.yaml", "name: m\nbase: nothere.yaml\n");
+  EXPECT_EQ(load_error("missing.yaml"),
+            path("missing.yaml") + ":2: key 'base': cannot open '" + path("nothere.yaml") + "'");
+  write("elsewhere.yaml", "base: ../configs/ball.yaml\n");
+  EXPECT_EQ(load_error("elsewhere.yaml"),
+            path("elsewhere.yaml") +
+                ":1: key 'base': '../configs/ball.yaml' must be a file beside this config (its "
+                "relative paths resolve from here)");
+  write("list.yaml", "base: [base_scene.yaml]\n");
+  EXPECT_EQ(load_error("list.yaml"), path("list.yaml") + ":1: key 'base': expected a file name");
+  write("cycle_a.yaml", "base: cycle_b.yaml\n");
+  write("cycle_b.yaml", "mesh: {shape: cube}\nbase: cycle_a.yaml\n");
+  EXPECT_EQ(load_error("cycle_a.yaml"),
+            path("cycle_b.yaml") +
+                ":2: key 'base': 'cycle_a.yaml' is already being read (cycle_a.yaml -> "
+                "cycle_b.yaml -> cycle_a.yaml)");
+  write("broken.yaml", "mesh: [1,\n");
+  write("uses_broken.yaml", "base: broken.yaml\n");
+  EXPECT_EQ(load_error("uses_broken.yaml").rfind(path("broken.yaml") + ":2: invalid YAML: ", 0), 0u)
+      << load_error("uses_broken.yaml");
+  write("scalar.yaml", "just text\n");
+  write("uses_scalar.yaml", "base: scalar.yaml\n");
+  EXPECT_EQ(load_error("uses_scalar.yaml"),
+            path("uses_scalar.yaml") + ":1: key 'base': '" + path("scalar.yaml") +
+                "' is not a mapping of keys");
+}
+
+TEST(SceneBase, TheAccurateConfigsAreTheirScenesLaidOver) {
+  // configs/*_accurate.yaml name their plain scene as base and change the step, the attack's
+  // start and length, and the objective: every other key is the base's.
+  const std::string configs = std::string(RBAA_SOURCE_DIR) + "/configs/";
+  for (const char* name : {"ball", "bunny", "bat"}) {
+    const Scene plain = load_scene(configs + name + ".yaml");
+    Scene accurate = load_scene(configs + name + "_accurate.yaml");
+    EXPECT_EQ(accurate.name, std::string(name) + "_accurate");
+    EXPECT_GT(accurate.contact_substeps, 0) << name;
+    EXPECT_TRUE(accurate.start_best_uniform) << name;
+    // Undo what the accurate config says it changes; the rest must be the base's.
+    accurate.name = plain.name;
+    accurate.source = plain.source;
+    accurate.time_step = plain.time_step;
+    accurate.contact_substeps = plain.contact_substeps;
+    accurate.start_best_uniform = plain.start_best_uniform;
+    accurate.iterations = plain.iterations;
+    accurate.polish_iterations = plain.polish_iterations;
+    accurate.objective = plain.objective;
+    EXPECT_EQ(scene_fingerprint_text(accurate), scene_fingerprint_text(plain)) << name;
+  }
+}
+
+}  // namespace
+}  // namespace rbaa
