@@ -19,41 +19,53 @@
 namespace rbaa {
 namespace {
 
+std::string resolve(const std::string& path, const std::string& base_dir) {
+  namespace fs = std::filesystem;
+  if (path.empty() || fs::path(path).is_absolute() || base_dir.empty()) return path;
+  return (fs::path(base_dir) / path).lexically_normal().string();
+}
+
 // Which file each node of a config was written in: the config itself, or a file it builds on
 // through `base:` (the merged document keeps every node's own line), so that an error names the
-// file and line a person has to open.
+// file and line a person has to open, and a relative path resolves from the folder of the file
+// that wrote it.
 class ConfigOrigin {
  public:
-  explicit ConfigOrigin(std::string file) : file_(std::move(file)) {}
+  ConfigOrigin(std::string file, std::string folder) : top_{std::move(file), std::move(folder)} {}
 
-  // Records every node (keys included) of a base document read from `file`.
-  void add(const YAML::Node& node, const std::string& file) {
+  // Records every node (keys included) of a base document read from `file` in `folder`.
+  void add(const YAML::Node& node, const std::string& file, const std::string& folder) {
     if (!node) return;
-    nodes_.emplace_back(node, file);
+    nodes_.emplace_back(node, Where{file, folder});
     if (node.IsMap()) {
       for (const auto& kv : node) {
-        add(kv.first, file);
-        add(kv.second, file);
+        add(kv.first, file, folder);
+        add(kv.second, file, folder);
       }
     } else if (node.IsSequence()) {
-      for (const auto& item : node) add(item, file);
+      for (const auto& item : node) add(item, file, folder);
     }
   }
 
-  const std::string& file_of(const YAML::Node& node) const {
-    if (node) {
-      for (const auto& [base_node, file] : nodes_) {
-        if (node.is(base_node)) return file;
-      }
-    }
-    return file_;
-  }
-
-  const std::string& file() const { return file_; }
+  const std::string& file_of(const YAML::Node& node) const { return where(node).file; }
+  const std::string& folder_of(const YAML::Node& node) const { return where(node).folder; }
 
  private:
-  std::string file_;
-  std::vector<std::pair<YAML::Node, std::string>> nodes_;  // searched on errors only
+  struct Where {
+    std::string file, folder;
+  };
+
+  const Where& where(const YAML::Node& node) const {
+    if (node) {
+      for (const auto& [base_node, at] : nodes_) {
+        if (node.is(base_node)) return at;
+      }
+    }
+    return top_;
+  }
+
+  Where top_;
+  std::vector<std::pair<YAML::Node, Where>> nodes_;  // a few hundred at most: searched linearly
 };
 
 // Reads one YAML mapping against a fixed set of keys: every read names the key it consumes, and
@@ -149,6 +161,12 @@ class MapReader {
     return value;
   }
 
+  // A file name, relative to the folder of the config (or base) that wrote it; "" when absent.
+  std::string path(const std::string& key) {
+    const std::string name = text(key, "");
+    return name.empty() ? name : resolve(name, source_->folder_of(node_[key]));
+  }
+
   Eigen::Vector3d vector3(const std::string& key, const Eigen::Vector3d& fallback) {
     if (!has(key)) return fallback;
     const YAML::Node n = node_[key];
@@ -185,11 +203,6 @@ class MapReader {
   std::set<std::string> seen_;
 };
 
-std::string resolve(const std::string& path, const std::string& base_dir) {
-  namespace fs = std::filesystem;
-  if (path.empty() || fs::path(path).is_absolute() || base_dir.empty()) return path;
-  return (fs::path(base_dir) / path).lexically_normal().string();
-}
 
 // Applies "a.b.c=value" to the document; the value is parsed as YAML (so lists work).
 void apply_override(YAML::Node& root, const std::string& assignment) {
@@ -215,6 +228,10 @@ void apply_override(YAML::Node& root, const std::string& assignment) {
     }
     chain.push_back(next);
   }
+  // A new entry rather than an assignment to the old one: assigning re-points the old node,
+  // which ConfigOrigin may hold as a base's (its file and folder would then be claimed for the
+  // command line's value).
+  chain.back().remove(parts.back());
   chain.back()[parts.back()] = value;
 }
 
@@ -248,12 +265,11 @@ YAML::Node merged(const YAML::Node& under, const YAML::Node& over) {
   return out;
 }
 
-// A config's top-level `base: FILE` (a file beside it): the config is FILE's document (with its
-// own base, if any) with this one's keys laid over it. The base's `name` is not inherited (a
-// config without one is named after its own file). `chain` holds the files being read, to
-// refuse a cycle.
-YAML::Node with_base(const YAML::Node& root, ConfigOrigin& origin, const std::string& base_dir,
-                     std::vector<std::string>& chain) {
+// A config's top-level `base: FILE` (relative to the config's folder): the config is FILE's
+// document (with its own base, if any) with this one's keys laid over it; relative paths written
+// in FILE resolve from FILE's folder. The base's `name` is not inherited (a config without one is
+// named after its own file). `chain` holds the files being read, to refuse a cycle.
+YAML::Node with_base(const YAML::Node& root, ConfigOrigin& origin, std::vector<std::string>& chain) {
   if (!root.IsMap() || !root["base"]) return root;
   const YAML::Node ref = root["base"];
   const std::string& file = origin.file_of(ref);
@@ -264,10 +280,7 @@ YAML::Node with_base(const YAML::Node& root, ConfigOrigin& origin, const std::st
   };
   if (!ref.IsScalar() || ref.Scalar().empty()) fail("expected a file name");
   const std::string name = ref.Scalar();
-  if (std::filesystem::path(name).filename().string() != name) {
-    fail("'" + name + "' must be a file beside this config (its relative paths resolve from here)");
-  }
-  const std::string path = resolve(name, base_dir);
+  const std::string path = resolve(name, origin.folder_of(ref));
   for (const auto& reading : chain) {
     if (std::filesystem::weakly_canonical(reading) == std::filesystem::weakly_canonical(path)) {
       std::string cycle;
@@ -282,8 +295,8 @@ YAML::Node with_base(const YAML::Node& root, ConfigOrigin& origin, const std::st
   chain.push_back(path);
   const YAML::Node base_doc = load_yaml(text.str(), path);
   if (!base_doc.IsMap()) fail("'" + path + "' is not a mapping of keys");
-  origin.add(base_doc, path);
-  YAML::Node under = with_base(base_doc, origin, base_dir, chain);
+  origin.add(base_doc, path, std::filesystem::path(path).parent_path().string());
+  YAML::Node under = with_base(base_doc, origin, chain);
   chain.pop_back();
   YAML::Node over(YAML::NodeType::Map);
   for (const auto& kv : root) {
@@ -300,13 +313,13 @@ const std::set<std::string> kFields = {"Y", "nu", "rho", "alpha"};
 
 // A mesh source (the top-level `mesh` or a body's): exactly one of shape, surface, file.
 MeshSource read_mesh_source(const YAML::Node& node, const ConfigOrigin& source,
-                            const std::string& key, const std::string& base_dir) {
+                            const std::string& key) {
   const double inf = std::numeric_limits<double>::infinity();
   MapReader m(node, source, key);
   MeshSource mesh;
   mesh.shape = m.text("shape", "", {"sphere", "cube", "star", "bat", "bunny"});
-  mesh.surface_file = resolve(m.text("surface", ""), base_dir);
-  mesh.mesh_file = resolve(m.text("file", ""), base_dir);
+  mesh.surface_file = m.path("surface");
+  mesh.mesh_file = m.path("file");
   const int sources = !mesh.shape.empty() + !mesh.surface_file.empty() + !mesh.mesh_file.empty();
   if (sources != 1) m.fail(node, "", "give exactly one of shape, surface, file");
   mesh.target_tets = m.integer("target_tets", 0, 10, 10000000);
@@ -441,9 +454,9 @@ const char* objective_kind_name(ObjectiveSpec::Kind kind) {
 
 Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
                   const std::string& base_dir, const std::vector<std::string>& overrides) {
-  ConfigOrigin source(source_name);
+  ConfigOrigin source(source_name, base_dir);
   std::vector<std::string> chain{source_name};
-  YAML::Node root = with_base(load_yaml(yaml_text, source_name), source, base_dir, chain);
+  YAML::Node root = with_base(load_yaml(yaml_text, source_name), source, chain);
   for (const auto& o : overrides) apply_override(root, o);
 
   const double inf = std::numeric_limits<double>::infinity();
@@ -453,7 +466,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
   s.name = top.text("name", std::filesystem::path(source_name).stem().string());
 
   if (!top.has("mesh")) top.fail(root, "mesh", "missing (give shape, surface or file)");
-  s.mesh = read_mesh_source(top.child("mesh"), source, "mesh", base_dir);
+  s.mesh = read_mesh_source(top.child("mesh"), source, "mesh");
   {
     MapReader o(top.child("object"), source, "object");
     read_pose(o, s.position, s.velocity, s.angular_velocity, s.rotation_axis, s.rotation_angle_deg);
@@ -471,10 +484,10 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
       body.name = b.text("name", key);
       if (!names.insert(body.name).second) b.fail(bodies[i], "name", "'" + body.name + "' names two bodies");
       if (!b.has("mesh")) b.fail(bodies[i], "mesh", "missing (give shape, surface or file)");
-      body.mesh = read_mesh_source(b.child("mesh"), source, key + ".mesh", base_dir);
+      body.mesh = read_mesh_source(b.child("mesh"), source, key + ".mesh");
       read_pose(b, body.position, body.velocity, body.angular_velocity, body.rotation_axis,
                 body.rotation_angle_deg);
-      body.materials_file = resolve(b.text("materials", ""), base_dir);
+      body.materials_file = b.path("materials");
       body.driven = read_drive(b);
       b.finish();
       s.bodies.push_back(std::move(body));
@@ -509,7 +522,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
         MapReader m(meshes[i], source, key);
         ObstacleMesh o;
         if (!m.has("file")) m.fail(meshes[i], "file", "missing (an OBJ, OFF, STL or PLY surface)");
-        o.file = resolve(m.text("file", ""), base_dir);
+        o.file = m.path("file");
         o.name = key + " (" + o.file + ")";
         o.position = m.vector3("position", o.position);
         if (m.has("rotation")) {
