@@ -180,7 +180,7 @@ TEST(SceneBase, ErrorsNameTheFileAndLineTheyAreWrittenIn) {
 
 TEST(SceneBase, TheAccurateConfigsAreTheirScenesLaidOver) {
   // configs/*_accurate.yaml name their plain scene as base and change the step, the attack's
-  // start and length, and the objective: every other key is the base's.
+  // start, length and fields, and the objective: every other key is the base's.
   const std::string configs = std::string(RBAA_SOURCE_DIR) + "/configs/";
   for (const char* name : {"ball", "bunny", "bat"}) {
     const Scene plain = load_scene(configs + name + ".yaml");
@@ -196,6 +196,7 @@ TEST(SceneBase, TheAccurateConfigsAreTheirScenesLaidOver) {
     accurate.start_best_uniform = plain.start_best_uniform;
     accurate.iterations = plain.iterations;
     accurate.polish_iterations = plain.polish_iterations;
+    accurate.fields = plain.fields;  // bat_accurate: the solid bat
     accurate.objective = plain.objective;
     EXPECT_EQ(scene_fingerprint_text(accurate), scene_fingerprint_text(plain)) << name;
   }
