@@ -203,7 +203,6 @@ class MapReader {
   std::set<std::string> seen_;
 };
 
-
 // Applies "a.b.c=value" to the document; the value is parsed as YAML (so lists work).
 void apply_override(YAML::Node& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
@@ -272,7 +271,7 @@ YAML::Node merged(const YAML::Node& under, const YAML::Node& over) {
 YAML::Node with_base(const YAML::Node& root, ConfigOrigin& origin, std::vector<std::string>& chain) {
   if (!root.IsMap() || !root["base"]) return root;
   const YAML::Node ref = root["base"];
-  const std::string& file = origin.file_of(ref);
+  const std::string file = origin.file_of(ref);  // a copy: origin grows below
   const auto fail = [&](const std::string& what) {
     std::ostringstream msg;
     msg << file << ":" << ref.Mark().line + 1 << ": key 'base': " << what;
