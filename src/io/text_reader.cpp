@@ -15,6 +15,9 @@ namespace {
 
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 
+
+}  // namespace
+
 std::string read_whole_file(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
@@ -27,8 +30,6 @@ std::string read_whole_file(const std::string& path) {
   if (in.bad()) throw InputError(path + ": cannot read: I/O error");
   return content.str();
 }
-
-}  // namespace
 
 TextReader::TextReader(const std::string& path) : name_(path), content_(read_whole_file(path)) {
   split_lines();

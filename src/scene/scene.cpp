@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -14,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "rbaa/error.hpp"
+#include "rbaa/io/text_reader.hpp"
 #include "rbaa/io/triangle_soup.hpp"
 
 namespace rbaa {
@@ -264,6 +264,15 @@ YAML::Node merged(const YAML::Node& under, const YAML::Node& over) {
   return out;
 }
 
+// The mapping `map` but for `key` (a new map of the same nodes).
+YAML::Node without(const YAML::Node& map, const std::string& key) {
+  YAML::Node out(YAML::NodeType::Map);
+  for (const auto& kv : map) {
+    if (kv.first.as<std::string>() != key) out[kv.first] = kv.second;
+  }
+  return out;
+}
+
 // A config's top-level `base: FILE` (relative to the config's folder): the config is FILE's
 // document (with its own base, if any) with this one's keys laid over it; relative paths written
 // in FILE resolve from FILE's folder. The base's `name` is not inherited (a config without one is
@@ -287,25 +296,19 @@ YAML::Node with_base(const YAML::Node& root, ConfigOrigin& origin, std::vector<s
       fail("'" + name + "' is already being read (" + cycle + name + ")");
     }
   }
-  std::ifstream in(path);
-  if (!in) fail("cannot open '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
+  std::string text;
+  try {
+    text = read_whole_file(path);
+  } catch (const InputError& e) {
+    fail(e.what());
+  }
   chain.push_back(path);
-  const YAML::Node base_doc = load_yaml(text.str(), path);
+  const YAML::Node base_doc = load_yaml(text, path);
   if (!base_doc.IsMap()) fail("'" + path + "' is not a mapping of keys");
   origin.add(base_doc, path, std::filesystem::path(path).parent_path().string());
   YAML::Node under = with_base(base_doc, origin, chain);
   chain.pop_back();
-  YAML::Node over(YAML::NodeType::Map);
-  for (const auto& kv : root) {
-    if (kv.first.as<std::string>() != "base") over[kv.first] = kv.second;
-  }
-  YAML::Node inherited(YAML::NodeType::Map);
-  for (const auto& kv : under) {
-    if (kv.first.as<std::string>() != "name") inherited[kv.first] = kv.second;
-  }
-  return merged(inherited, over);
+  return merged(without(under, "name"), without(root, "base"));
 }
 
 const std::set<std::string> kFields = {"Y", "nu", "rho", "alpha"};
@@ -912,12 +915,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open scene config");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
   const std::string base = std::filesystem::path(path).parent_path().string();
-  return parse_scene(buffer.str(), path, base, overrides);
+  return parse_scene(read_whole_file(path), path, base, overrides);
 }
 
 std::string body_name(const Scene& scene, int index) {

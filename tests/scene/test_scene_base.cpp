@@ -158,7 +158,14 @@ TEST(SceneBase, ErrorsNameTheFileAndLineTheyAreWrittenIn) {
 
   write("missing.yaml", "name: m\nbase: nothere.yaml\n");
   EXPECT_EQ(load_error("missing.yaml"),
-            path("missing.yaml") + ":2: key 'base': cannot open '" + path("nothere.yaml") + "'");
+            path("missing.yaml") + ":2: key 'base': " + path("nothere.yaml") +
+                ": cannot read: No such file or directory");
+  std::filesystem::create_directories(path("a_folder"));
+  write("folder.yaml", "base: a_folder\n");
+  EXPECT_EQ(load_error("folder.yaml"),
+            path("folder.yaml") + ":1: key 'base': " + path("a_folder") + ": cannot read: is a directory");
+  // The config itself, read by the same function.
+  EXPECT_EQ(load_error("a_folder"), path("a_folder") + ": cannot read: is a directory");
   write("list.yaml", "base: [base_scene.yaml]\n");
   EXPECT_EQ(load_error("list.yaml"), path("list.yaml") + ":1: key 'base': expected a file name");
   write("cycle_a.yaml", "base: cycle_b.yaml\n");

@@ -10,6 +10,10 @@
 
 namespace rbaa {
 
+/// The whole file at `path`; throws InputError "PATH: cannot read: REASON" (a folder, a missing
+/// or unreadable file, an I/O error).
+std::string read_whole_file(const std::string& path);
+
 class TextReader {
  public:
   /// Reads the whole file at `path`; throws InputError "PATH: cannot read (reason)".
