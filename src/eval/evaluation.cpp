@@ -43,16 +43,12 @@ BodyPath rigid_body_path(const std::vector<RigidState>& states) {
   return p;
 }
 
-// A body's path as a run's trace (the same record, named for the comparisons, with the run's wall
-// time).
+// A body's path as a run's trace: named for the comparisons, with the run's wall time.
 RunTrace trace_from_path(const std::string& name, BodyPath p, double seconds) {
   RunTrace t;
+  static_cast<BodyPath&>(t) = std::move(p);
   t.name = name;
   t.seconds = seconds;
-  t.time = std::move(p.time);
-  t.position = std::move(p.centre);
-  t.velocity = std::move(p.velocity);
-  t.orientation = std::move(p.rotation);
   return t;
 }
 
@@ -208,12 +204,12 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
   RunComparison c;
   c.a = a.name;
   c.b = b.name;
-  const size_t n = std::min(a.position.size(), b.position.size());
+  const size_t n = std::min(a.centre.size(), b.centre.size());
   if (n == 0) return c;
-  for (size_t i = 0; i < n; ++i) c.max_position_gap = std::max(c.max_position_gap, (a.position[i] - b.position[i]).norm());
-  c.position_gap = (a.position[n - 1] - b.position[n - 1]).norm();
+  for (size_t i = 0; i < n; ++i) c.max_position_gap = std::max(c.max_position_gap, (a.centre[i] - b.centre[i]).norm());
+  c.position_gap = (a.centre[n - 1] - b.centre[n - 1]).norm();
   c.velocity_angle_deg = angle_deg(a.velocity[n - 1], b.velocity[n - 1]);
-  c.orientation_gap_deg = a.orientation[n - 1].angularDistance(b.orientation[n - 1]) * 180.0 / M_PI;
+  c.orientation_gap_deg = a.rotation[n - 1].angularDistance(b.rotation[n - 1]) * 180.0 / M_PI;
   return c;
 }
 
@@ -663,7 +659,7 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
 
 double path_length(const RunTrace& t) {
   double length = 0;
-  for (size_t i = 1; i < t.position.size(); ++i) length += (t.position[i] - t.position[i - 1]).norm();
+  for (size_t i = 1; i < t.centre.size(); ++i) length += (t.centre[i] - t.centre[i - 1]).norm();
   return length;
 }
 

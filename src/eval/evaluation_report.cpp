@@ -39,9 +39,9 @@ void write_trace_csv(const std::string& path, const RunTrace& t) {
   write_file_atomically(path, [&](std::ostream& out) {
     out << "time,com_x,com_y,com_z,vel_x,vel_y,vel_z,quat_w,quat_x,quat_y,quat_z\n";
     for (size_t i = 0; i < t.time.size(); ++i) {
-      const auto& p = t.position[i];
+      const auto& p = t.centre[i];
       const auto& v = t.velocity[i];
-      const auto& q = t.orientation[i];
+      const auto& q = t.rotation[i];
       out << exact(t.time[i]) << ',' << exact(p.x()) << ',' << exact(p.y()) << ',' << exact(p.z()) << ','
           << exact(v.x()) << ',' << exact(v.y()) << ',' << exact(v.z()) << ',' << exact(q.w()) << ','
           << exact(q.x()) << ',' << exact(q.y()) << ',' << exact(q.z()) << '\n';
@@ -73,9 +73,9 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   }
   std::vector<PathSeries> series;
   for (const RunTrace* t : runs) {
-    PathSeries s{t->name, Eigen::MatrixXd(t->position.size(), 3), Eigen::VectorXd(t->position.size())};
-    for (size_t i = 0; i < t->position.size(); ++i) {
-      s.points.row(i) = t->position[i].transpose();
+    PathSeries s{t->name, Eigen::MatrixXd(t->centre.size(), 3), Eigen::VectorXd(t->centre.size())};
+    for (size_t i = 0; i < t->centre.size(); ++i) {
+      s.points.row(i) = t->centre[i].transpose();
       s.times[i] = i < t->time.size() ? t->time[i] : NAN;
     }
     series.push_back(std::move(s));

@@ -253,9 +253,9 @@ TEST(Evaluation, OfTheRestitutionsThatGiveAReboundTheTwinClosestToTheBaselineIsK
          simulate_rigid(rigid_mass_properties(ev.reference_moments), rigid_shape_from_surface(mesh),
                         scene, settings, scene.duration)) {
       twin.time.push_back(state.time);
-      twin.position.push_back(state.position);
+      twin.centre.push_back(state.position);
       twin.velocity.push_back(state.velocity);
-      twin.orientation.push_back(state.orientation);
+      twin.rotation.push_back(state.orientation);
     }
     if (against_rigid) *against_rigid = compare_runs(twin, ev.rigid_reference);
     return compare_runs(twin, ev.deformable_reference).max_position_gap;
@@ -292,8 +292,8 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   // Equal moments: identical rigid trajectories; the deformable ones may differ.
   EXPECT_LT(ev.rigid_vs_rigid.max_position_gap, 1e-9);
   EXPECT_LT(ev.rigid_vs_rigid.orientation_gap_deg, 1e-6);
-  EXPECT_EQ(ev.rigid_reference.position.size(), 21u);
-  EXPECT_EQ(ev.deformable_adversarial.position.size(), 21u);
+  EXPECT_EQ(ev.rigid_reference.centre.size(), 21u);
+  EXPECT_EQ(ev.deformable_adversarial.centre.size(), 21u);
   EXPECT_NEAR((ev.reference_moments.as_vector() - ev.adversarial_moments.as_vector()).norm() /
                   ev.reference_moments.m0, 0.0, 1e-10);
 
@@ -478,9 +478,9 @@ TEST(Evaluation, AdversarialCentreOfMassStartsAtThePosition) {
   options.soft_control = false;
   const Evaluation ev = evaluate(scene, mesh, mesh, adv, options);
   const double tol = 1e-12 * scene.position.norm();
-  EXPECT_LT((ev.deformable_adversarial.position[0] - scene.position).norm(), tol);
+  EXPECT_LT((ev.deformable_adversarial.centre[0] - scene.position).norm(), tol);
   // The twin's centre is on its grid (rigid_mass_properties: 2^-24 of the radius of gyration).
-  EXPECT_LT((ev.rigid_adversarial.position[0] - scene.position).norm(),
+  EXPECT_LT((ev.rigid_adversarial.centre[0] - scene.position).norm(),
             tol + std::ldexp(radius_of_gyration(ev.adversarial_moments), -22));
   EXPECT_LT((ev.adversarial_moments.centre_of_mass() - scene.position).norm(), tol);
 }

@@ -51,15 +51,15 @@ TEST(EvaluationBody, TheNamedBodysCentreOfMassIsComparedAndADrivenObjectIsKinema
   const Eigen::Vector3d ball0(0.01, 0.2, 0);
   for (const RunTrace* t : {&ev.rigid_reference, &ev.rigid_adversarial, &ev.deformable_reference,
                             &ev.deformable_adversarial, &ev.deformable_soft}) {
-    ASSERT_FALSE(t->position.empty()) << t->name;
+    ASSERT_FALSE(t->centre.empty()) << t->name;
     // Traced: the ball (its centre starts at its position, coming at -2 m/s), struck back.
-    EXPECT_LT((t->position.front() - ball0).norm(), 1e-3) << t->name;
+    EXPECT_LT((t->centre.front() - ball0).norm(), 1e-3) << t->name;
     EXPECT_NEAR(t->velocity.front().y(), -2.0, 1e-6) << t->name;
     EXPECT_GT(t->velocity.back().y(), 2.0) << t->name;
     std::printf("%-24s ball leaves at (%.3f, %.3f, %.3f) m/s, ends at (%.4f, %.4f, %.4f)\n",
                 t->name.c_str(), t->velocity.back().x(), t->velocity.back().y(),
-                t->velocity.back().z(), t->position.back().x(), t->position.back().y(),
-                t->position.back().z());
+                t->velocity.back().z(), t->centre.back().x(), t->centre.back().y(),
+                t->centre.back().z());
   }
   // The twin's cube-ball restitution e is fitted to the baseline's strike (issue 19 item 5): the
   // deformable ball leaves at 4.29 m/s, faster than an elastic one (the driven cube's front face
@@ -141,10 +141,10 @@ TEST(EvaluationBody, AnAttackOnAFurtherBodyIsEvaluatedInItsPlace) {
   for (const auto& [x, y] : {std::pair{&a.rigid_reference, &b.rigid_reference},
                              std::pair{&a.deformable_reference, &b.deformable_reference},
                              std::pair{&a.deformable_adversarial, &b.deformable_adversarial}}) {
-    ASSERT_EQ(x->position.size(), y->position.size()) << x->name;
+    ASSERT_EQ(x->centre.size(), y->centre.size()) << x->name;
     double gap = 0;
-    for (std::size_t k = 0; k < x->position.size(); ++k) {
-      gap = std::max(gap, (x->position[k] - y->position[k]).norm());
+    for (std::size_t k = 0; k < x->centre.size(); ++k) {
+      gap = std::max(gap, (x->centre[k] - y->centre[k]).norm());
     }
     std::printf("%-24s ball path, object vs swapped: max gap %.3g m\n", x->name.c_str(), gap);
     EXPECT_LT(gap, 1e-9) << x->name;

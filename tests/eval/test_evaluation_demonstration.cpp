@@ -63,7 +63,7 @@ TEST(EvaluationDemonstration, EveryRunGetsItsPredicateAndFigureInTheReportAndSum
   EXPECT_EQ(ev.outcomes[0].run, "rigid reference");
   EXPECT_EQ(ev.outcomes[4].simulator, "deformable");
   EXPECT_EQ(ev.outcomes[4].object, "adversarial");
-  EXPECT_LT((ev.deformable_adversarial.position.front() - Eigen::Vector3d(0, 0, 1)).norm(), 1e-9);
+  EXPECT_LT((ev.deformable_adversarial.centre.front() - Eigen::Vector3d(0, 0, 1)).norm(), 1e-9);
 
   const std::string dir = ::testing::TempDir() + "/rbaa_demo_" + std::to_string(::getpid());
   write_evaluation(ev, scene, dir);

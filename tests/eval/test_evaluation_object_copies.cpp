@@ -133,7 +133,7 @@ TEST(EvaluationObjectCopies, RigidTwinsOfMomentMatchedCopiesAgree) {
                 ref.paths[i].name.c_str(), gap);
   }
   // The target moved (the collision happened in the twins).
-  EXPECT_GT(ev.rigid_reference.position.back().x(), 0.01);
+  EXPECT_GT(ev.rigid_reference.centre.back().x(), 0.01);
 }
 
 }  // namespace

@@ -21,14 +21,11 @@
 
 namespace rbaa {
 
-/// One run sampled at the scene's time step (N + 1 samples).
-struct RunTrace {
-  std::string name;
-  std::vector<double> time;
-  std::vector<Eigen::Vector3d> position;     ///< centre of mass (m)
-  std::vector<Eigen::Vector3d> velocity;     ///< centre of mass (m/s)
-  std::vector<Eigen::Quaterniond> orientation;  ///< rotation from the initial pose
-  double seconds = 0;                        ///< wall time
+/// One run as the comparisons see it: the compared body's path (demonstration.hpp) sampled at
+/// the scene's time step (N + 1 samples, velocities included), named after the run ("rigid
+/// reference", ...), with the run's wall time.
+struct RunTrace : BodyPath {
+  double seconds = 0;  ///< wall time
 };
 
 /// How two runs differ at the end time T.
