@@ -135,17 +135,18 @@ Eigen::VectorXd MetricTangentProjector::project(const Eigen::VectorXd& v) const 
   return v - W_ * JW_.solve(J_ * v);
 }
 
-void retract_onto_moments(const MomentCostFunction& moments, Eigen::VectorXd& theta, int max_steps) {
+double retract_onto_moments(const MomentCostFunction& moments, Eigen::VectorXd& theta, int max_steps) {
   // Gauss-Newton steps theta -= J^T (J J^T)^-1 r: the smallest change of theta that zeroes the
   // linearised residuals, in the span of J^T, which a projected step (orthogonal to it) never
   // touches. Two or three steps reach round-off from a 1e-2 residual.
   for (int k = 0; k < max_steps; ++k) {
     const MomentVector r = moments.residuals(theta);
-    if (r.cwiseAbs().maxCoeff() < 1e-12) break;
+    if (r.cwiseAbs().maxCoeff() < 1e-12) return r.cwiseAbs().maxCoeff();
     const Eigen::Matrix<double, 10, Eigen::Dynamic> J = moments.jacobian(theta);
     const Eigen::Matrix<double, 10, 10> JJt = J * J.transpose();
     theta -= J.transpose() * JJt.ldlt().solve(r);
   }
+  return moments.residuals(theta).cwiseAbs().maxCoeff();
 }
 
 AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunction& moments,
@@ -255,8 +256,26 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
       adam.step(theta, tangent.project(precondition(gradient)));
       // Adam's per-component scaling leaves the tangent again: take the step back onto it in the
       // same metric, then retract onto the moments' manifold.
-      theta = before + tangent.project(theta - before);
-      retract_onto_moments(moments, theta);
+      const Eigen::VectorXd step = tangent.project(theta - before);
+      // Where the design saturates (the tanh map flat near its bounds, J J^T nearly singular) the
+      // retraction can lose its grip on a long step and leave the design off the moments, never
+      // to return: the stack's cube attack (configs/cube_strike.yaml at 1500 tets, half the cube
+      // void) ended 1e-1 off after its 45th step. Such a step is halved until its retraction
+      // reaches the moments to 1e-6 (far below what moves a trajectory, far above the 1e-9 that
+      // four Gauss-Newton steps leave of a long but good step; or, from a design already off the
+      // moments, gets no farther off), and not taken after ten halvings. Any other step is taken
+      // unchanged.
+      const double accept = std::max(1e-6, moments.residuals(before).cwiseAbs().maxCoeff());
+      double scale = 1.0;
+      for (int halving = 0;; ++halving) {
+        theta = before + scale * step;
+        if (retract_onto_moments(moments, theta) <= accept) break;
+        if (halving == 10) {
+          theta = before;
+          break;
+        }
+        scale *= 0.5;
+      }
     } else {
       adam.step(theta, precondition(gradient));
     }

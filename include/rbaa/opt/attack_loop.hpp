@@ -94,7 +94,9 @@ struct AttackLoopOptions {
   /// Descend along the moments' tangent: Adam gets the preconditioned gradient projected onto
   /// J z = 0 (J = dr/dtheta) in the preconditioner's metric (MetricTangentProjector), its step
   /// is projected the same way, and up to four Gauss-Newton steps theta -= J^T (J J^T)^-1 r take
-  /// it back onto r = 0 (the second-order rest). Without it Adam's first steps (about
+  /// it back onto r = 0 (the second-order rest); a step whose retraction does not get there (to
+  /// 1e-6, or to where the design was) is halved until it does, at most ten times, else not
+  /// taken. Without it Adam's first steps (about
   /// learning_rate in every entry) break the moments by 1e-2 and the loop spends its iterations
   /// restoring them.
   bool project_moments = true;
@@ -146,8 +148,8 @@ class MetricTangentProjector {
 };
 
 /// Moves theta onto r(theta) = 0 with up to `max_steps` Gauss-Newton steps
-/// theta -= J^T (J J^T)^-1 r (stops once max |r| < 1e-12).
-void retract_onto_moments(const MomentCostFunction& moments, Eigen::VectorXd& theta, int max_steps = 4);
+/// theta -= J^T (J J^T)^-1 r (stops once max |r| < 1e-12). Returns max |r| where it ends.
+double retract_onto_moments(const MomentCostFunction& moments, Eigen::VectorXd& theta, int max_steps = 4);
 
 /// Runs the loop from theta0 (or the checkpoint); with project_moments, theta0 is first retracted
 /// onto the matched moments. `smoother` may be null (no occupancy field).
