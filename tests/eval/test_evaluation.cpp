@@ -85,6 +85,42 @@ struct TiltedCube {
 // not linear in it, so the search has to iterate: a tilted, spinning cube hitting the floor on a
 // corner. The fitted restitution is then re-run and its rebound measured here from the states
 // themselves (gravity off: the normal velocity is constant before and after the single bounce).
+// compare_runs on two hand-made traces whose every figure is known: the final and the largest
+// centre-of-mass gap (neither run at the origin, so a gap that forgets one run is caught), the
+// angle between the final velocities and between the final rotations. The shorter trace sets
+// the compared samples.
+TEST(Evaluation, CompareRunsGivesTheGapsAndAnglesOfTwoKnownTraces) {
+  RunTrace a, b;
+  a.name = "a";
+  b.name = "b";
+  const Eigen::Vector3d base(1.0, 2.0, 3.0);
+  for (int i = 0; i < 3; ++i) {
+    a.time.push_back(0.1 * i);
+    b.time.push_back(0.1 * i);
+    a.centre.push_back(base + Eigen::Vector3d(0.1 * i, 0, 0));
+    b.centre.push_back(base + Eigen::Vector3d(0.1 * i, i == 1 ? 0.5 : 0.03 * i, 0.04 * i));
+    a.velocity.push_back(Eigen::Vector3d(1, 0, 0));
+    b.velocity.push_back(Eigen::Vector3d(1, 1, 0));
+    a.rotation.push_back(Eigen::Quaterniond::Identity());
+    b.rotation.push_back(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())));
+  }
+  b.time.push_back(0.3);  // a sample a does not have: not compared
+  b.centre.push_back(base + Eigen::Vector3d(5, 5, 5));
+  b.velocity.push_back(Eigen::Vector3d(0, 0, 1));
+  b.rotation.push_back(Eigen::Quaterniond::Identity());
+  const RunComparison c = compare_runs(a, b);
+  EXPECT_EQ(c.a, "a");
+  EXPECT_EQ(c.b, "b");
+  EXPECT_NEAR(c.position_gap, 0.1, 1e-15);       // (0, 0.06, 0.08) at the last common sample
+  EXPECT_NEAR(c.max_position_gap, std::hypot(0.5, 0.04), 1e-15);
+  EXPECT_NEAR(c.velocity_angle_deg, 45.0, 1e-12);
+  EXPECT_NEAR(c.orientation_gap_deg, 0.3 * 180.0 / M_PI, 1e-9);
+  const RunComparison same = compare_runs(a, a);
+  EXPECT_EQ(same.position_gap, 0.0);
+  EXPECT_EQ(same.max_position_gap, 0.0);
+  EXPECT_EQ(same.velocity_angle_deg, 0.0);
+}
+
 TEST(Evaluation, CalibratedRestitutionReproducesTheTargetOnATiltedCube) {
   const TiltedCube cube(0.005);
   const double target = 0.6, tolerance = 1e-3;
