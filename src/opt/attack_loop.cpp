@@ -149,6 +149,18 @@ double retract_onto_moments(const MomentCostFunction& moments, Eigen::VectorXd& 
   return moments.residuals(theta).cwiseAbs().maxCoeff();
 }
 
+bool retract_move_onto_moments(const MomentCostFunction& moments, const Eigen::VectorXd& from,
+                               const Eigen::VectorXd& to, double tolerance, Eigen::VectorXd& theta,
+                               int max_halvings) {
+  double scale = 1.0;
+  for (int halving = 0; halving <= max_halvings; ++halving, scale *= 0.5) {
+    theta = halving == 0 ? to : Eigen::VectorXd(from + scale * (to - from));
+    if (retract_onto_moments(moments, theta) <= tolerance) return true;
+  }
+  theta = from;
+  return false;
+}
+
 AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunction& moments,
                                  const GradientSmoother* smoother, const TrajectoryTerm& trajectory,
                                  const Eigen::VectorXd& theta0, const AttackLoopOptions& options) {
@@ -172,7 +184,9 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
   } else if (options.project_moments) {
     // The seeded perturbation of theta_0 breaks the moments (1e-2 on the ball); start from the
     // nearest matched design instead, so that the first gap measures dynamics, not mass shift.
-    retract_onto_moments(moments, theta);
+    // A retraction that ends farther off than theta_0 itself (it diverged) is not taken.
+    const double start_residual = moments.residuals(theta).cwiseAbs().maxCoeff();
+    retract_move_onto_moments(moments, theta0, theta0, std::max(1e-6, start_residual), theta, 0);
   }
   for (int k = start; k < options.iterations; ++k) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -265,27 +279,27 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
       // four Gauss-Newton steps leave of a long but good step; or, from a design already off the
       // moments, gets no farther off), and not taken after ten halvings. Any other step is taken
       // unchanged.
-      const double accept = std::max(1e-6, moments.residuals(before).cwiseAbs().maxCoeff());
-      double scale = 1.0;
-      for (int halving = 0;; ++halving) {
-        theta = before + scale * step;
-        if (retract_onto_moments(moments, theta) <= accept) break;
-        if (halving == 10) {
-          theta = before;
-          break;
-        }
-        scale *= 0.5;
-      }
+      retract_move_onto_moments(moments, before, Eigen::VectorXd(before + step),
+                                std::max(1e-6, row.max_moment_residual), theta);
     } else {
       adam.step(theta, precondition(gradient));
     }
     // The repair's paths, filled after the step (occupancy_penalty.hpp): the next design's
     // rounding is one body. The retraction that restores the moments moves alpha too and can
     // take an element back below the threshold when much was filled at once: fill again, a few
-    // passes at most.
+    // passes at most. A fill whose retraction does not reach the moments (within the step's
+    // bound) is halved as a step is, and the passes stop where one is not taken.
     if (options.occupancy && options.occupancy->options().repair_in_loop) {
-      for (int pass = 0; pass < 4 && options.occupancy->fill_repair_paths(theta) > 0; ++pass) {
-        if (options.project_moments) retract_onto_moments(moments, theta);
+      const double accept = options.project_moments
+                                ? std::max(1e-6, moments.residuals(theta).cwiseAbs().maxCoeff())
+                                : 0.0;
+      for (int pass = 0; pass < 4; ++pass) {
+        const Eigen::VectorXd unfilled = theta;
+        if (options.occupancy->fill_repair_paths(theta) == 0) break;
+        if (options.project_moments &&
+            !retract_move_onto_moments(moments, unfilled, Eigen::VectorXd(theta), accept, theta)) {
+          break;
+        }
       }
     }
     row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

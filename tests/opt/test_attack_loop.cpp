@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include <unistd.h>
 
@@ -210,6 +211,28 @@ TEST_F(AttackLoop, EveryDesignKeepsTheMomentsWhereTheDesignSaturates) {
     EXPECT_GT(r.theta.cwiseAbs().maxCoeff(), 20.0) << learning_rate;
     EXPECT_LT(r.progress.back().objective, 100 * r.progress.front().objective) << learning_rate;
   }
+}
+
+// The start's retraction, from a design saturated and far off the moments (the retraction can
+// diverge there as a long step's does), never leaves the loop's first design farther off than the
+// start itself; and a retraction that reaches the moments is still taken.
+TEST_F(AttackLoop, TheStartsRetractionNeverEndsFartherOffThanTheStart) {
+  std::srand(11);
+  int diverged = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::VectorXd theta0 = design_->initial_theta() + 30.0 * Eigen::VectorXd::Random(design_->size());
+    const double start = moments_->residuals(theta0).cwiseAbs().maxCoeff();
+    Eigen::VectorXd plain = theta0;
+    if (retract_onto_moments(*moments_, plain) > std::max(1e-6, start)) ++diverged;
+    std::filesystem::remove(dir_ + "/checkpoint.json");
+    const AttackLoopResult r = run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), theta0, options(1));
+    ASSERT_EQ(r.progress.size(), 1u);
+    EXPECT_LE(r.progress[0].max_moment_residual, std::max(1e-6, start)) << "trial " << trial;
+  }
+  EXPECT_GT(diverged, 0);  // the scenario does what it is for
+  // From the ordinary start the retraction is taken: the first design is on the moments.
+  const AttackLoopResult r = run_attack_loop(*design_, *moments_, smoother_.get(), fake_term(), design_->initial_theta(), options(1));
+  EXPECT_LT(r.progress[0].max_moment_residual, 1e-9);
 }
 
 // The loop's step direction: tangent to the moments and downhill for gradients that lie mostly

@@ -265,5 +265,46 @@ TEST(OccupancyPenalty, RepairInLoopLeavesOneBodyWithTheMomentsMatched) {
   EXPECT_LT(moments.residuals(r.theta).cwiseAbs().maxCoeff(), 1e-10);
 }
 
+// The fill's retraction is guarded as a step's is: from a saturated design (the tanh map flat,
+// J J^T nearly singular) filling a path moves alpha far, and a retraction that diverged there left
+// the design off the moments for good. No design the loop simulates gets farther off the moments
+// than 1e-6 or the design before it.
+TEST(OccupancyPenalty, RepairInLoopNeverLeavesTheMomentsWhereTheDesignSaturates) {
+  const TetMesh mesh = box_tet_mesh({0, 0, 0}, {0.3, 0.3, 0.3}, 6, 6, 6);
+  DesignSpaceOptions o;
+  o.alpha0 = 0.3;
+  o.perturbation = 0.3;
+  const DesignSpace design(mesh, o);
+  const MomentCostFunction moments(mesh, design, compute_moments(mesh, 2500.0));
+  const GradientSmoother smoother(mesh, 1.0);
+  OccupancyPenaltyOptions po;
+  po.repair_in_loop = true;
+  const OccupancyPenalty penalty(mesh, design, 0.5, po);
+  const TrajectoryTerm carve = [&design](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+    if (gradient) {
+      gradient->setZero(theta.size());
+      gradient->segment(design.offset(DesignField::kAlpha), design.num_interior()).setConstant(1e-3);
+    }
+    return TrajectoryTermValue{-1.0, 0.0, 0.0, 0.0, 0.0};
+  };
+  // (Before the guard: 1.25 off after 0.71 at saturation 20 and rate 0.3, 0.91 after 0.17 at rate 1.)
+  for (double saturation : {20.0, 40.0}) {
+    for (double learning_rate : {0.3, 1.0}) {
+      AttackLoopOptions loop;
+      loop.iterations = 8;
+      loop.occupancy = &penalty;
+      loop.adam.learning_rate = learning_rate;
+      const Eigen::VectorXd theta0 = saturation * design.initial_theta(true);
+      const AttackLoopResult r = run_attack_loop(design, moments, &smoother, carve, theta0, loop);
+      ASSERT_EQ(r.progress.size(), 8u);
+      for (size_t k = 1; k < r.progress.size(); ++k) {
+        const double bound = std::max(1e-6, r.progress[k - 1].max_moment_residual);
+        EXPECT_LE(r.progress[k].max_moment_residual, bound)
+            << "saturation " << saturation << ", learning rate " << learning_rate << ", iteration " << k;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rbaa

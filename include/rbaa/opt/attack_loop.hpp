@@ -151,6 +151,15 @@ class MetricTangentProjector {
 /// theta -= J^T (J J^T)^-1 r (stops once max |r| < 1e-12). Returns max |r| where it ends.
 double retract_onto_moments(const MomentCostFunction& moments, Eigen::VectorXd& theta, int max_steps = 4);
 
+/// Retract, else back off: sets theta to from + s (to - from), retracted onto the moments, for the
+/// first s of 1, 1/2, ..., 2^-max_halvings whose retraction ends within `tolerance`; if none
+/// does, theta = from (unretracted) and it returns false. Where the design saturates (the tanh
+/// map flat near its bounds, J J^T nearly singular) a retraction from far off can diverge and
+/// leave a design off the moments for good; a shorter move from a design near them does not.
+bool retract_move_onto_moments(const MomentCostFunction& moments, const Eigen::VectorXd& from,
+                               const Eigen::VectorXd& to, double tolerance, Eigen::VectorXd& theta,
+                               int max_halvings = 10);
+
 /// Runs the loop from theta0 (or the checkpoint); with project_moments, theta0 is first retracted
 /// onto the matched moments. `smoother` may be null (no occupancy field).
 AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunction& moments,
