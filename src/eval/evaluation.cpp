@@ -91,7 +91,7 @@ BodyPath deformable_body_path(const SimulationRun& run, int body) {
 // For the object this is its observables' motion to the bit (simulate.cpp computes them with the
 // same masses, grid frames and functions).
 RunTrace trace_from_deformable(const std::string& name, const SimulationRun& run, int body = 0) {
-  return trace_from_path(name, deformable_body_path(run, body), run.setup_seconds + run.simulate_seconds);
+  return trace_from_path(name, deformable_body_path(run, body), run.seconds());
 }
 
 // Every body's path in a deformable run (the object, then the scene's bodies), for the
@@ -104,6 +104,26 @@ std::vector<BodyPath> paths_from_deformable(const Scene& scene, const Simulation
     paths.back().name = body_name(scene, i);
   }
   return paths;
+}
+
+// A deformable run as the evaluation keeps it: the trace of body `traced` and, for a
+// demonstration (scene.demonstration.enabled), every body's path, each body's path built once
+// (the trace is the traced body's path, renamed after the run).
+struct DeformableRunRecord {
+  RunTrace trace;
+  std::vector<BodyPath> paths;  ///< empty outside a demonstration
+};
+
+DeformableRunRecord record_deformable(const std::string& name, const Scene& scene, const SimulationRun& run,
+                                      int traced) {
+  DeformableRunRecord r;
+  if (!scene.demonstration.enabled) {
+    r.trace = trace_from_deformable(name, run, traced);
+    return r;
+  }
+  r.paths = paths_from_deformable(scene, run);
+  r.trace = trace_from_path(name, r.paths.at(traced), run.seconds());
+  return r;
 }
 
 // Every body's path in a rigid run, with the bounding radii of the same bodies' deformable paths
@@ -700,7 +720,9 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
   const auto start = std::chrono::steady_clock::now();
   const SimulationRun baseline = run_simulation(scene, mesh, materials, sim_options);
   const int traced = evaluated_body(scene);
-  out.baseline = trace_from_deformable("deformable reference", baseline, traced);
+  DeformableRunRecord record = record_deformable("deformable reference", scene, baseline, traced);
+  out.baseline = std::move(record.trace);
+  out.baseline_paths = std::move(record.paths);
   out.body_moments = body_moments(baseline);
 
   rigid.margin = std::min(rigid.margin, scene.d_hat);
@@ -714,10 +736,7 @@ BaselineAtStep run_baseline(const Scene& scene, const TetMesh& mesh, const Mater
       simulate_rigid_bodies(mass, shape, scene, rigid, scene.duration, further);
   out.rigid_reference = trace_from_rigid("rigid reference", rigid_bodies_states.at(traced),
                                          seconds_since(rigid_start));
-  if (scene.demonstration.enabled) {
-    out.baseline_paths = paths_from_deformable(scene, baseline);
-    out.rigid_paths = paths_from_rigid(rigid_bodies_states, out.baseline_paths);
-  }
+  if (scene.demonstration.enabled) out.rigid_paths = paths_from_rigid(rigid_bodies_states, out.baseline_paths);
   const RunComparison gap = compare_runs(out.baseline, out.rigid_reference);
   out.trial.time_step = scene.time_step;
   out.trial.path_length = path_length(out.baseline);
@@ -872,15 +891,18 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
 
   const SimulationRun adversarial = run_simulation(scene, adversarial_mesh, adversarial_materials, sim_options);
   const int traced = evaluated_body(scene_in);
-  ev.deformable_adversarial = trace_from_deformable("deformable adversarial", adversarial, traced);
+  DeformableRunRecord adversarial_record =
+      record_deformable("deformable adversarial", scene_in, adversarial, traced);
+  ev.deformable_adversarial = std::move(adversarial_record.trace);
   std::vector<BodyPath> soft_paths;
   if (options.soft_control) {
     ev.soft_Y = scene_in.Y_range.lo;
     const MaterialField soft = MaterialField::uniform(reference_mesh.num_tets(), ev.soft_Y, scene.reference_nu,
                                                       scene.reference_rho, 1.0);
     const SimulationRun soft_run = run_simulation(scene, reference_mesh, soft, sim_options);
-    ev.deformable_soft = trace_from_deformable("deformable soft uniform", soft_run, traced);
-    if (scene_in.demonstration.enabled) soft_paths = paths_from_deformable(scene_in, soft_run);
+    DeformableRunRecord soft_record = record_deformable("deformable soft uniform", scene_in, soft_run, traced);
+    ev.deformable_soft = std::move(soft_record.trace);
+    soft_paths = std::move(soft_record.paths);
     ev.soft_vs_deformable = compare_runs(ev.deformable_reference, ev.deformable_soft);
     ev.soft_own_twin = own_twin(soft_run, ev.deformable_soft, "rigid twin of the soft control", ref_mass,
                                 ref_shape, scene, further, rigid_settings, options.calibration_tolerance);
@@ -894,7 +916,7 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
   ev.rigid_adversarial =
       trace_from_rigid("rigid adversarial", rigid_adv.at(traced), seconds_since(start));
   if (scene_in.demonstration.enabled) {
-    const std::vector<BodyPath> adversarial_paths = paths_from_deformable(scene_in, adversarial);
+    const std::vector<BodyPath>& adversarial_paths = adversarial_record.paths;
     std::vector<DemonstrationRun> runs = {
         {"rigid reference", "rigid", "reference", chosen.rigid_paths},
         {"rigid adversarial", "rigid", "adversarial",

@@ -214,6 +214,12 @@ TEST(SceneDriven, ADrivenSceneSimulatesWithItsVerticesOnTheirPath) {
                         cN = run.observables.back().centre_of_mass;
   const Eigen::Vector3d rigid = b.drive.position(c0, 0.05);
   EXPECT_LT((cN - rigid).norm(), 0.05 * (rigid - c0).norm());
+  // The run's wall time (what `rbaa evaluate` reports per run) holds its set-up and every step.
+  double steps = 0;
+  for (const StepStats& st : t.steps) steps += st.seconds;
+  EXPECT_GT(run.setup_seconds, 0.0);
+  EXPECT_GE(run.simulate_seconds, steps);
+  EXPECT_EQ(run.seconds(), run.setup_seconds + run.simulate_seconds);
 }
 
 }  // namespace

@@ -55,6 +55,8 @@ struct SimulationRun {
   std::vector<Bounce> bounces;
   double setup_seconds = 0;
   double simulate_seconds = 0;
+  /// The run's wall time: set-up and simulation (what `rbaa evaluate` reports per run).
+  double seconds() const { return setup_seconds + simulate_seconds; }
 };
 
 /// The centre-of-mass velocity of run.bodies[b] (of the whole mesh when the run has no bodies)
