@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "rbaa/error.hpp"
 #include "rbaa/io/atomic_file.hpp"
@@ -168,6 +169,8 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
   Adam adam(options.adam);
   Eigen::VectorXd theta = theta0;
   Eigen::VectorXd evaluated;  // the last design whose simulation succeeded
+  // That design's trajectory term and gradient in this process (not across a resume).
+  std::optional<std::pair<TrajectoryTermValue, Eigen::VectorXd>> last;
   int start = 0;
   if (options.resume && !options.checkpoint_path.empty() && std::filesystem::exists(options.checkpoint_path)) {
     AttackCheckpoint c = load_checkpoint(options.checkpoint_path, options.fingerprint, design.size());
@@ -192,17 +195,25 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     const auto t0 = std::chrono::steady_clock::now();
     Eigen::VectorXd grad_traj, grad_moment;
     TrajectoryTermValue traj;
-    try {
-      traj = trajectory(theta, &grad_traj);
-    } catch (const SolverError& e) {
-      // Keep what the run has: stop at the last design whose simulation succeeded.
-      if (evaluated.size() == 0) throw;
-      result.stopped_early = e.what();
-      result.failed_theta = theta;
-      theta = evaluated;
-      break;
+    if (last.has_value() && theta == evaluated) {
+      // The last step was refused (theta did not move): its simulation and adjoint stand.
+      traj = last->first;
+      traj.forward_seconds = traj.adjoint_seconds = 0;
+      grad_traj = last->second;
+    } else {
+      try {
+        traj = trajectory(theta, &grad_traj);
+      } catch (const SolverError& e) {
+        // Keep what the run has: stop at the last design whose simulation succeeded.
+        if (evaluated.size() == 0) throw;
+        result.stopped_early = e.what();
+        result.failed_theta = theta;
+        theta = evaluated;
+        break;
+      }
     }
     evaluated = theta;
+    last.emplace(traj, grad_traj);
     const double moment_term = moments.penalty(theta, options.beta, &grad_moment);
     Eigen::VectorXd gradient = grad_traj + grad_moment;
     // The occupancy penalty's continuation: w_k (weight P + connectivity_weight R) joins the

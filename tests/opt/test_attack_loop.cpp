@@ -213,6 +213,38 @@ TEST_F(AttackLoop, EveryDesignKeepsTheMomentsWhereTheDesignSaturates) {
   }
 }
 
+// A step refused outright (its retraction never reaches the moments, halved ten times) leaves the
+// design where it was; the next iteration takes that design's simulation and gradient as they
+// were instead of running them again. Rows of a repeated design read the same.
+TEST_F(AttackLoop, ARefusedStepIsNotSimulatedAgain) {
+  std::srand(11);
+  int reused = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const Eigen::VectorXd theta0 = design_->initial_theta() + 30.0 * Eigen::VectorXd::Random(design_->size());
+    std::vector<Eigen::VectorXd> calls;
+    const TrajectoryTerm inner = fake_term();
+    const TrajectoryTerm counted = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+      calls.push_back(theta);
+      return inner(theta, gradient);
+    };
+    AttackLoopOptions o = options(12);
+    o.adam.learning_rate = 2.0;
+    std::filesystem::remove(dir_ + "/checkpoint.json");
+    const AttackLoopResult r = run_attack_loop(*design_, *moments_, smoother_.get(), counted, theta0, o);
+    ASSERT_EQ(r.progress.size(), 12u);
+    for (size_t i = 1; i < calls.size(); ++i) EXPECT_FALSE(calls[i] == calls[i - 1]) << "trial " << trial << ", call " << i;
+    // Each iteration without a call repeats its predecessor's row.
+    int repeated_rows = 0;
+    for (size_t k = 1; k < r.progress.size(); ++k) {
+      repeated_rows += r.progress[k].objective == r.progress[k - 1].objective && r.progress[k].gap == r.progress[k - 1].gap;
+    }
+    const int without_call = static_cast<int>(r.progress.size() - calls.size());
+    EXPECT_GE(repeated_rows, without_call) << trial;
+    reused += without_call;
+  }
+  EXPECT_GT(reused, 0);  // the scenario refuses steps (3 in these six runs)
+}
+
 // The start's retraction, from a design saturated and far off the moments (the retraction can
 // diverge there as a long step's does), never leaves the loop's first design farther off than the
 // start itself; and a retraction that reaches the moments is still taken.
