@@ -96,7 +96,9 @@ struct AttackLoopOptions {
   /// is projected the same way, and up to four Gauss-Newton steps theta -= J^T (J J^T)^-1 r take
   /// it back onto r = 0 (the second-order rest); a step whose retraction does not get there (to
   /// 1e-6, or to where the design was) is halved until it does, at most ten times, else not
-  /// taken. Without it Adam's first steps (about
+  /// taken (retract_move_onto_moments; a design that did not move is not simulated again). The
+  /// start's retraction and the repair_in_loop fills are guarded the same way. Without it Adam's
+  /// first steps (about
   /// learning_rate in every entry) break the moments by 1e-2 and the loop spends its iterations
   /// restoring them.
   bool project_moments = true;
