@@ -227,42 +227,55 @@ TEST(OccupancyPenalty, LoopDrivesOccupancyToItsEndsWithTheMomentsMatched) {
   EXPECT_NEAR(penalty.grey_fraction(still.theta), grey0, 0.05);
 }
 
+// The repair_in_loop scenes: a 6 x 6 x 6 box whose interior starts at alpha 0.3, which rounds to
+// void, so the interior falls apart from the shell and the repair has paths to fill.
+struct RepairScene {
+  TetMesh mesh = box_tet_mesh({0, 0, 0}, {0.3, 0.3, 0.3}, 6, 6, 6);
+  DesignSpace design{mesh, [] {
+                       DesignSpaceOptions o;
+                       o.alpha0 = 0.3;
+                       o.perturbation = 0.3;
+                       return o;
+                     }()};
+  MomentCostFunction moments{mesh, design, compute_moments(mesh, 2500.0)};
+  GradientSmoother smoother{mesh, 1.0};
+  OccupancyPenalty penalty{mesh, design, 0.5, [] {
+                             OccupancyPenaltyOptions po;
+                             po.repair_in_loop = true;
+                             return po;
+                           }()};
+  // A term that likes low occupancy: it keeps carving what the fill joins.
+  TrajectoryTerm carve() const {
+    return [this](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
+      if (gradient) {
+        gradient->setZero(theta.size());
+        gradient->segment(design.offset(DesignField::kAlpha), design.num_interior()).setConstant(1e-3);
+      }
+      return TrajectoryTermValue{-1.0, 0.0, 0.0, 0.0, 0.0};
+    };
+  }
+};
+
 // repair_in_loop: after every step the repair's paths are filled and the moments retracted, so
 // every design the loop simulates after its first rounds to one body with the shell.
 TEST(OccupancyPenalty, RepairInLoopLeavesOneBodyWithTheMomentsMatched) {
-  const TetMesh mesh = box_tet_mesh({0, 0, 0}, {0.3, 0.3, 0.3}, 6, 6, 6);
-  DesignSpaceOptions o;
-  o.alpha0 = 0.3;  // rounds to void: the interior falls apart from the shell
-  o.perturbation = 0.3;
-  const DesignSpace design(mesh, o);
-  const MomentCostFunction moments(mesh, design, compute_moments(mesh, 2500.0));
-  const GradientSmoother smoother(mesh, 1.0);
-  OccupancyPenaltyOptions po;
-  po.repair_in_loop = true;
-  const OccupancyPenalty penalty(mesh, design, 0.5, po);
+  const RepairScene scene;
+  const DesignSpace& design = scene.design;
+  const OccupancyPenalty& penalty = scene.penalty;
   int components = 0;
   penalty.repair_share(design.initial_theta(true), nullptr, &components);
   ASSERT_GT(components, 1);
-  // A term that likes low occupancy: it keeps carving what the fill joins.
-  const TrajectoryTerm carve = [&design](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
-    if (gradient) {
-      gradient->setZero(theta.size());
-      gradient->segment(design.offset(DesignField::kAlpha), design.num_interior())
-          .setConstant(1e-3);
-    }
-    return TrajectoryTermValue{-1.0, 0.0, 0.0, 0.0, 0.0};
-  };
   AttackLoopOptions loop;
   loop.iterations = 6;
   loop.occupancy = &penalty;
   const AttackLoopResult r =
-      run_attack_loop(design, moments, &smoother, carve, design.initial_theta(true), loop);
+      run_attack_loop(design, scene.moments, &scene.smoother, scene.carve(), design.initial_theta(true), loop);
   ASSERT_EQ(r.progress.size(), 6u);
   EXPECT_GT(r.progress[0].components, 1);  // the start: not filled
   for (size_t k = 1; k < r.progress.size(); ++k) EXPECT_EQ(r.progress[k].components, 1) << k;
   EXPECT_EQ(penalty.repair_share(r.theta, nullptr, &components), 0.0);
   EXPECT_EQ(components, 1);
-  EXPECT_LT(moments.residuals(r.theta).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT(scene.moments.residuals(r.theta).cwiseAbs().maxCoeff(), 1e-10);
 }
 
 // The fill's retraction is guarded as a step's is: from a saturated design (the tanh map flat,
@@ -270,32 +283,16 @@ TEST(OccupancyPenalty, RepairInLoopLeavesOneBodyWithTheMomentsMatched) {
 // the design off the moments for good. No design the loop simulates gets farther off the moments
 // than 1e-6 or the design before it.
 TEST(OccupancyPenalty, RepairInLoopNeverLeavesTheMomentsWhereTheDesignSaturates) {
-  const TetMesh mesh = box_tet_mesh({0, 0, 0}, {0.3, 0.3, 0.3}, 6, 6, 6);
-  DesignSpaceOptions o;
-  o.alpha0 = 0.3;
-  o.perturbation = 0.3;
-  const DesignSpace design(mesh, o);
-  const MomentCostFunction moments(mesh, design, compute_moments(mesh, 2500.0));
-  const GradientSmoother smoother(mesh, 1.0);
-  OccupancyPenaltyOptions po;
-  po.repair_in_loop = true;
-  const OccupancyPenalty penalty(mesh, design, 0.5, po);
-  const TrajectoryTerm carve = [&design](const Eigen::VectorXd& theta, Eigen::VectorXd* gradient) {
-    if (gradient) {
-      gradient->setZero(theta.size());
-      gradient->segment(design.offset(DesignField::kAlpha), design.num_interior()).setConstant(1e-3);
-    }
-    return TrajectoryTermValue{-1.0, 0.0, 0.0, 0.0, 0.0};
-  };
+  const RepairScene scene;
   // (Before the guard: 1.25 off after 0.71 at saturation 20 and rate 0.3, 0.91 after 0.17 at rate 1.)
   for (double saturation : {20.0, 40.0}) {
     for (double learning_rate : {0.3, 1.0}) {
       AttackLoopOptions loop;
       loop.iterations = 8;
-      loop.occupancy = &penalty;
+      loop.occupancy = &scene.penalty;
       loop.adam.learning_rate = learning_rate;
-      const Eigen::VectorXd theta0 = saturation * design.initial_theta(true);
-      const AttackLoopResult r = run_attack_loop(design, moments, &smoother, carve, theta0, loop);
+      const Eigen::VectorXd theta0 = saturation * scene.design.initial_theta(true);
+      const AttackLoopResult r = run_attack_loop(scene.design, scene.moments, &scene.smoother, scene.carve(), theta0, loop);
       ASSERT_EQ(r.progress.size(), 8u);
       for (size_t k = 1; k < r.progress.size(); ++k) {
         const double bound = std::max(1e-6, r.progress[k - 1].max_moment_residual);
