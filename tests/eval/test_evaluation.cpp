@@ -376,6 +376,32 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
   std::filesystem::remove_all(dir);
+
+  // A step search whose disagreement did not fall with h (the bin's: 7.69, 4.70, 6.85 %): the
+  // summary names the least and its step beside the finest one it keeps; one that fell does not.
+  const auto summary_of = [&](const std::vector<double>& strays) {
+    Evaluation searched = ev;
+    searched.step_search.clear();
+    for (size_t i = 0; i < strays.size(); ++i) {
+      BaselineTrial t;
+      t.time_step = 0.01 / std::pow(4.0, static_cast<double>(i));
+      t.disagreement = strays[i];
+      searched.step_search.push_back(t);
+    }
+    searched.baseline_tolerance = 0.005;
+    searched.baseline_disagreement = strays.back();
+    write_evaluation(searched, scene, dir);
+    std::ifstream md(dir + "/summary.md");
+    std::stringstream ss;
+    ss << md.rdbuf();
+    std::filesystem::remove_all(dir);
+    return ss.str();
+  };
+  const std::string rose = summary_of({0.0769, 0.0470, 0.0685});
+  EXPECT_NE(rose.find("A coarser step strayed less (4.7 % at h = 0.0025 s)"), std::string::npos) << rose;
+  EXPECT_NE(rose.find("the last took it from 4.7 % to 6.85 %"), std::string::npos) << rose;
+  const std::string fell = summary_of({0.0769, 0.0470, 0.0185});
+  EXPECT_EQ(fell.find("A coarser step strayed less"), std::string::npos) << fell;
 }
 
 // Issue 20 item 4: every deformable run also gets a rigid twin calibrated to its own rebound.
