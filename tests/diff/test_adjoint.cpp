@@ -13,12 +13,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "diff_fixtures.hpp"
 #include "rbaa/diff/adjoint.hpp"
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
+#include "rbaa/error.hpp"
 #include "support/intersection_free.hpp"
 
 namespace rbaa {
@@ -159,6 +161,42 @@ TEST(Adjoint, ReusedFactorBuffersGiveBitIdenticalGradients) {
   ASSERT_EQ(g_fresh.size(), g_again.size());
   EXPECT_TRUE(g_fresh == g_again) << "max difference " << (g_fresh - g_again).cwiseAbs().maxCoeff();
   EXPECT_FALSE(g_fresh == g_other);
+}
+
+// The Ceres face of the trajectory term (ceres::FirstOrderFunction, for GradientProblemSolver),
+// called as Ceres calls it, through the base class: the throwing member's value and gradient bit
+// for bit, the value alone when no gradient is asked for, and a failed simulation an infeasible
+// point (false, the message kept), not an exception.
+TEST(Adjoint, CeresInterfaceGivesTheMembersValueAndGradient) {
+  const test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);
+  const auto objective = reference_objective(b);
+  DesignSpace ds(b.mesh, test_design(kFieldSets.back()));
+  const Eigen::VectorXd theta = ds.initial_theta(true);
+  TrajectoryGradientFunction member(b.mesh, b.settings, b.q0, b.v0, ds, objective);
+  Eigen::VectorXd g;
+  const double c = member.evaluate(theta, &g);
+  ASSERT_GT(g.norm(), 0);
+
+  TrajectoryGradientFunction function(b.mesh, b.settings, b.q0, b.v0, ds, objective);
+  const ceres::FirstOrderFunction& ceres_face = function;
+  ASSERT_EQ(ceres_face.NumParameters(), ds.size());
+  double cost = 0;
+  Eigen::VectorXd gradient = Eigen::VectorXd::Constant(ds.size(), std::nan(""));
+  ASSERT_TRUE(ceres_face.Evaluate(theta.data(), &cost, gradient.data()));
+  EXPECT_EQ(cost, c);
+  EXPECT_TRUE(gradient == g) << "max difference " << (gradient - g).cwiseAbs().maxCoeff();
+  double value_only = 0;
+  ASSERT_TRUE(ceres_face.Evaluate(theta.data(), &value_only, nullptr));
+  EXPECT_EQ(value_only, c);
+  EXPECT_EQ(function.last_error(), "");
+
+  SimulationSettings starved = b.settings;
+  starved.newton_max_iterations = 1;
+  TrajectoryGradientFunction failing(b.mesh, starved, b.q0, b.v0, ds, objective);
+  EXPECT_THROW(failing.evaluate(theta, nullptr), SolverError);
+  double unused = 0;
+  EXPECT_FALSE(static_cast<const ceres::FirstOrderFunction&>(failing).Evaluate(theta.data(), &unused, gradient.data()));
+  EXPECT_NE(failing.last_error().find("did not converge"), std::string::npos) << failing.last_error();
 }
 
 TEST(Adjoint, InitialStateAdjointMatchesFiniteDifferences) {
