@@ -98,6 +98,23 @@ TEST(BarrierStiffness, EnergyRuleGivesAbout4e7ForTheBall) {
   EXPECT_NEAR(barrier_design_speed(0.0, Eigen::Vector3d(0, 0, -9.8), {Plane{}}, {},
                                    Eigen::Vector3d(0, 0, 2)),
               std::sqrt(2 * 9.8 * 2), 1e-12);
+  // A floor raised to z = 0.5 (offset 0.5): the fall is 1.5 m. A slope (30 deg, offset 0.2):
+  // its distance along the vertical, (n . c - offset) / (n . up). A ceiling does not end a fall,
+  // and a faster throw keeps its own speed.
+  Plane raised;
+  raised.offset = 0.5;
+  EXPECT_NEAR(barrier_design_speed(0.0, Eigen::Vector3d(0, 0, -9.8), {raised}, {}, Eigen::Vector3d(0, 0, 2)),
+              std::sqrt(2 * 9.8 * 1.5), 1e-12);
+  Plane slope;
+  slope.normal = Eigen::Vector3d(0, 0.5, std::sqrt(3.0) / 2);
+  slope.offset = 0.2;
+  Plane ceiling;
+  ceiling.normal = -Eigen::Vector3d::UnitZ();
+  ceiling.offset = -3.0;
+  const double fall = (std::sqrt(3.0) - 0.2) / (std::sqrt(3.0) / 2);
+  EXPECT_NEAR(barrier_design_speed(0.0, Eigen::Vector3d(0, 0, -9.8), {ceiling, slope}, {}, Eigen::Vector3d(0, 0, 2)),
+              std::sqrt(2 * 9.8 * fall), 1e-12);
+  EXPECT_EQ(barrier_design_speed(20.0, Eigen::Vector3d(0, 0, -9.8), {raised}, {}, Eigen::Vector3d(0, 0, 2)), 20.0);
 }
 
 }  // namespace
