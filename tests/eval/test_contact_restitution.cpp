@@ -208,6 +208,36 @@ TEST(ContactRestitution, TheRigidSensitivityRunIsTheReferenceTwinPerturbedAsTheO
   EXPECT_LT(same.rigid_sensitivity.max_position_gap, 1e-12);
 }
 
+// The same with spin: a glancing collision with friction between the balls sets them turning, so
+// the twins' principal moments matter as much as their masses, and the perturbed reference twin
+// (both scaled) is again the heavier adversarial's twin. A perturbation that scaled the mass alone
+// would miss the turning.
+TEST(ContactRestitution, TheRigidSensitivityRunPerturbsThePrincipalMomentsToo) {
+  std::string yaml = two_balls_yaml();
+  const std::string head_on = "position: [0, 0.13, 0]";
+  yaml.replace(yaml.find(head_on), head_on.size(), "position: [0.06, 0.13, 0]");
+  yaml += "contact: {friction: 0.8}\n";
+  const Scene scene = parse_scene(yaml, "two_balls.yaml", dir());
+  const TetMesh mesh = make_scene_mesh(scene);
+  EvaluationOptions options;
+  options.time_step = scene.time_step;
+  options.duration = scene.duration;
+  options.soft_control = false;
+  const Evaluation ev =
+      evaluate(scene, mesh, mesh, MaterialField::uniform(mesh.num_tets(), 5e9, 0.3, 1001, 1.0), options);
+  std::printf("glancing: perturbation %.3e: rigid adversarial vs reference %.6e m, perturbed reference %.6e m, "
+              "turned %.3f deg\n",
+              ev.rigid_perturbation, ev.rigid_vs_rigid.max_position_gap, ev.rigid_sensitivity.max_position_gap,
+              ev.rigid_reference.rotation.back().angularDistance(Eigen::Quaterniond::Identity()) * 180 / M_PI);
+  EXPECT_NEAR(ev.rigid_perturbation, 1e-3, 1e-12);
+  EXPECT_GT(ev.rigid_reference.rotation.back().angularDistance(Eigen::Quaterniond::Identity()), 0.05);
+  EXPECT_GT(ev.rigid_vs_rigid.max_position_gap, 1e-6);
+  EXPECT_NEAR(ev.rigid_sensitivity.max_position_gap, ev.rigid_vs_rigid.max_position_gap,
+              1e-9 + 1e-4 * ev.rigid_vs_rigid.max_position_gap);
+  EXPECT_NEAR(ev.rigid_sensitivity.orientation_gap_deg, ev.rigid_vs_rigid.orientation_gap_deg,
+              1e-9 + 1e-4 * ev.rigid_vs_rigid.orientation_gap_deg);
+}
+
 TEST(ContactRestitution, ThePairsFittedRestitutionMakesTheTwinBallsLeaveAsTheDeformableOnes) {
   const Scene scene = parse_scene(two_balls_yaml(), "two_balls.yaml", dir());
   const TetMesh mesh = make_scene_mesh(scene);
