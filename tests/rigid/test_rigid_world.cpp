@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "rbaa/error.hpp"
 #include "rbaa/geometry/moments.hpp"
@@ -120,6 +122,30 @@ TEST(RigidMeshObstacles, AMeshWithoutTrianglesIsRefusedByName) {
 }
 
 // --- Several bodies ----------------------------------------------------------------------------
+
+// Bullet reads a body of mass 0 as static: a twin with zero (or negative, or NaN) mass or principal
+// moment would hang in the air instead of failing, so it is refused by name.
+TEST(RigidBodies, ABodyWithoutPositiveMassIsRefusedByName) {
+  const TetMesh cube = mesh_shape("cube", 300);
+  for (const auto& [label, mass, moment] :
+       std::vector<std::tuple<const char*, double, double>>{{"zero mass", 0.0, 1.0},
+                                                           {"negative mass", -1.0, 1.0},
+                                                           {"NaN mass", std::nan(""), 1.0},
+                                                           {"zero moment", 1.0, 0.0}}) {
+    RigidWorld world;
+    world.bodies = {twin(cube, Eigen::Vector3d(0, 0, 1), 2500)};
+    world.bodies[0].name = "cube";
+    world.bodies[0].mass.mass = mass;
+    if (moment == 0.0) world.bodies[0].mass.principal_moments[1] = 0.0;
+    try {
+      simulate_rigid(world, RigidSettings{}, 0.01);
+      ADD_FAILURE() << label << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("rigid body cube needs positive mass"), std::string::npos)
+          << label << ": " << e.what();
+    }
+  }
+}
 
 // Two balls of one mesh stacked into one tet mesh, the second three times as dense: each twin
 // gets its own mass, centre and initial velocity, and a head-on elastic collision of the heavy one
