@@ -193,6 +193,25 @@ TEST(PathPlot, TheBallsSideViewDrawsTheBoardAndTheRimsSections) {
   }
   EXPECT_GT(left, 8);
   EXPECT_GT(right, 8);
+  // The sections extend the view towards them, but no farther than the paths' own extent beyond
+  // the paths: this short throw ends 2.9 m before the board, so along u the view runs from the
+  // paths' start to their end plus their length (then 10 % padding each side), not to the board.
+  double u_lo = INFINITY, u_hi = -INFINITY;
+  for (Eigen::Index i = 0; i < thrown.points.rows(); ++i) {
+    const double u = view.u.dot(thrown.points.row(i).transpose());
+    u_lo = std::min(u_lo, u);
+    u_hi = std::max(u_hi, u);
+  }
+  const double cap = u_hi + (u_hi - u_lo), pad = 0.1 * (cap - u_lo);
+  ASSERT_LT(cap, 0.0);  // the board's section (u = 0) lies beyond the cap
+  const size_t at = script.find("set xrange [");
+  ASSERT_NE(at, std::string::npos) << script;
+  std::istringstream xrange(script.substr(at + 12));
+  double x_lo = 0, x_hi = 0;
+  char colon = 0;
+  ASSERT_TRUE(xrange >> x_lo >> colon >> x_hi) << script.substr(at, 60);
+  EXPECT_NEAR(x_lo, u_lo - pad, 1e-6);
+  EXPECT_NEAR(x_hi, cap + pad, 1e-6);
   std::filesystem::remove_all(dir);
 }
 
