@@ -9,6 +9,10 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
+#include <utility>
+
+#include <unistd.h>
 
 #include "rbaa/error.hpp"
 #include "rbaa/scene/scene.hpp"
@@ -17,8 +21,22 @@
 namespace rbaa {
 namespace {
 
+// This process's own folder: ctest runs these tests as separate processes side by side, and two
+// of them writing one /tmp/over.yaml at once made one read a half-written file.
+// Removed when the process ends.
+struct ProcessFolder {
+  std::filesystem::path dir;
+  explicit ProcessFolder(std::filesystem::path d) : dir(std::move(d)) { std::filesystem::create_directories(dir); }
+  ~ProcessFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir, ignored);
+  }
+};
+
 std::string path(const std::string& name) {
-  return (std::filesystem::path(::testing::TempDir()) / name).lexically_normal().string();
+  static const ProcessFolder folder(std::filesystem::path(::testing::TempDir()) /
+                                    ("rbaa_scene_base_" + std::to_string(::getpid())));
+  return (folder.dir / name).lexically_normal().string();
 }
 
 void write(const std::string& name, const std::string& text) { std::ofstream(path(name)) << text; }

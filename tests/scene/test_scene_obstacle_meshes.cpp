@@ -7,9 +7,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
 #include <vector>
+
+#include <unistd.h>
 
 #include "rbaa/error.hpp"
 #include "rbaa/scene/scene.hpp"
@@ -20,7 +24,27 @@
 namespace rbaa {
 namespace {
 
-std::string dir() { return ::testing::TempDir(); }
+// This process's own folder (ctest runs the tests as separate processes side by side), removed
+// when the process ends.
+struct ProcessFolder {
+  std::string dir;
+  ProcessFolder()
+      : dir((std::filesystem::path(::testing::TempDir()) /
+             ("rbaa_scene_obstacle_meshes_" + std::to_string(::getpid())))
+                .lexically_normal()
+                .string()) {
+    std::filesystem::create_directories(dir);
+  }
+  ~ProcessFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir, ignored);
+  }
+};
+
+std::string dir() {
+  static const ProcessFolder folder;
+  return folder.dir;
+}
 
 void write(const std::string& name, const std::string& text) {
   std::ofstream(dir() + "/" + name) << text;
