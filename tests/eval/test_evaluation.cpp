@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include "io/io_test_support.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
 #include "rbaa/geometry/moments.hpp"
@@ -391,11 +392,9 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     searched.baseline_tolerance = 0.005;
     searched.baseline_disagreement = strays.back();
     write_evaluation(searched, scene, dir);
-    std::ifstream md(dir + "/summary.md");
-    std::stringstream ss;
-    ss << md.rdbuf();
+    const std::string summary = test::read_text(dir + "/summary.md");
     std::filesystem::remove_all(dir);
-    return ss.str();
+    return summary;
   };
   const std::string rose = summary_of({0.0769, 0.0470, 0.0685});
   EXPECT_NE(rose.find("A coarser step strayed less (4.7 % at h = 0.0025 s)"), std::string::npos) << rose;

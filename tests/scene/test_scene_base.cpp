@@ -9,11 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <system_error>
-#include <utility>
 
-#include <unistd.h>
-
+#include "io/io_test_support.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_fingerprint.hpp"
@@ -21,22 +18,12 @@
 namespace rbaa {
 namespace {
 
-// This process's own folder: ctest runs these tests as separate processes side by side, and two
-// of them writing one /tmp/over.yaml at once made one read a half-written file.
-// Removed when the process ends.
-struct ProcessFolder {
-  std::filesystem::path dir;
-  explicit ProcessFolder(std::filesystem::path d) : dir(std::move(d)) { std::filesystem::create_directories(dir); }
-  ~ProcessFolder() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir, ignored);
-  }
-};
-
+// A folder of this process's own (test::ScratchDir, made in the first test that asks, removed at
+// exit): ctest runs these tests as separate processes side by side, and two of them writing one
+// /tmp/over.yaml at once made one read a half-written file.
 std::string path(const std::string& name) {
-  static const ProcessFolder folder(std::filesystem::path(::testing::TempDir()) /
-                                    ("rbaa_scene_base_" + std::to_string(::getpid())));
-  return (folder.dir / name).lexically_normal().string();
+  static const test::ScratchDir folder;
+  return (folder.path() / name).lexically_normal().string();
 }
 
 void write(const std::string& name, const std::string& text) { std::ofstream(path(name)) << text; }

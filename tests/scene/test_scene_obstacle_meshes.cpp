@@ -7,14 +7,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
-#include <unistd.h>
-
+#include "io/io_test_support.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_fingerprint.hpp"
@@ -24,26 +21,11 @@
 namespace rbaa {
 namespace {
 
-// This process's own folder (ctest runs the tests as separate processes side by side), removed
-// when the process ends.
-struct ProcessFolder {
-  std::string dir;
-  ProcessFolder()
-      : dir((std::filesystem::path(::testing::TempDir()) /
-             ("rbaa_scene_obstacle_meshes_" + std::to_string(::getpid())))
-                .lexically_normal()
-                .string()) {
-    std::filesystem::create_directories(dir);
-  }
-  ~ProcessFolder() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir, ignored);
-  }
-};
-
+// A folder of this process's own (test::ScratchDir, made in the first test that asks, removed at
+// exit): ctest runs the tests as separate processes side by side.
 std::string dir() {
-  static const ProcessFolder folder;
-  return folder.dir;
+  static const test::ScratchDir folder;
+  return folder.path().lexically_normal().string();
 }
 
 void write(const std::string& name, const std::string& text) {
