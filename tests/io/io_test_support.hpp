@@ -22,9 +22,14 @@ class ScratchDir {
  public:
   ScratchDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::path(::testing::TempDir()) /
-            ("rbaa_io_test_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" +
-             info->name());
+    // A parameterised test's suite and test names hold slashes ("Versions/MshRoundTrip",
+    // "Reads/2"): one folder, not a nested one whose parent would be left behind.
+    std::string name = "rbaa_io_test_" + std::to_string(::getpid()) + "_" +
+                       info->test_suite_name() + "_" + info->name();
+    for (char& c : name) {
+      if (c == '/') c = '_';
+    }
+    path_ = std::filesystem::path(::testing::TempDir()) / name;
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
