@@ -105,6 +105,25 @@ TEST(Laplacian, NegativeSemiDefiniteAndLinearPrecision) {
   }
 }
 
+TEST(Laplacian, MeanEdgeLengthCountsEveryDistinctEdgeOnce) {
+  // Two tets on the face (0, 1, 2): 9 distinct edges, the face's 3 shared. Lengths 1, 2, 3 on
+  // the axes, sqrt 5, sqrt 10, sqrt 13 across, and apex 4 at (0, 0, -4): 4, sqrt 17, sqrt 20.
+  TetMesh mesh;
+  mesh.V.resize(5, 3);
+  mesh.V << 0, 0, 0,  //
+      1, 0, 0,        //
+      0, 2, 0,        //
+      0, 0, 3,        //
+      0, 0, -4;
+  mesh.T.resize(2, 4);
+  mesh.T << 0, 1, 2, 3,  //
+      0, 2, 1, 4;
+  const double sum = 1 + 2 + 3 + std::sqrt(5.0) + std::sqrt(10.0) + std::sqrt(13.0) + 4 +
+                     std::sqrt(17.0) + std::sqrt(20.0);
+  EXPECT_NEAR(mean_edge_length(mesh), sum / 9, 1e-15);
+  EXPECT_EQ(mean_edge_length(TetMesh{}), 0.0);
+}
+
 TEST(Smoothing, BarycentricSubdivisionKeepsVolumeAndOrientation) {
   const TetMesh mesh = graded_mesh();
   const TetMesh sub = false_barycentric_subdivision(mesh);
