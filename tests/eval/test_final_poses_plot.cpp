@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "rbaa/error.hpp"
 #include "rbaa/eval/final_poses_plot.hpp"
 
@@ -144,6 +146,50 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
   EXPECT_EQ(rows, 5);
   EXPECT_NEAR(sum.x() / 4, 0.06, 1e-12);
   EXPECT_NEAR(sum.y() / 4, 0.026, 1e-12);
+  std::filesystem::remove_all(dir);
+}
+
+// Planes are drawn where they are: each arrow's two ends lie on its plane in the side view
+// (n_y y + n_z z = offset), for a slanted floor (drawn across the view's y range) and a steep wall
+// (drawn across its z range). The ground of the test above has n_y = 0, so it cannot tell.
+TEST(FinalPosesPlot, SlantedPlanesAreDrawnOnThemselves) {
+  const std::string dir =
+      (std::filesystem::temp_directory_path() /
+       ("rbaa_final_poses_planes_" + std::to_string(::getpid())))
+          .string();
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const Eigen::Vector3d low(0, 0, 0.026), high(0, -0.0225, 0.077);
+  const std::vector<BodyShape> shapes = {cube("bottom", low, 0.05), cube("middle", high, 0.05)};
+  const std::vector<DemonstrationRun> runs = {
+      {"deformable adversarial",
+       "deformable",
+       "adversarial",
+       {moved("bottom", low, low, 0), moved("middle", high, Eigen::Vector3d(0, 0.06, 0.026), 90)}}};
+  const std::vector<Plane> planes = {
+      Plane{Eigen::Vector3d(0, -0.5, std::sqrt(3.0) / 2), -0.004},  // a floor tilted 30 deg
+      Plane{Eigen::Vector3d(0, -0.96, 0.28), -0.09}};               // a wall leaning over +y
+  write_final_poses_plot(dir + "/poses", "stack", shapes, runs, planes);
+  std::ifstream gp(dir + "/poses.gp");
+  std::stringstream script;
+  script << gp.rdbuf();
+  const std::string s = script.str();
+  ASSERT_NE(s.find("set xlabel 'y (m)'"), std::string::npos) << s;
+  ASSERT_NE(s.find("set ylabel 'z (m)'"), std::string::npos) << s;
+  for (int k = 0; k < 2; ++k) {
+    const std::string key = "set arrow " + std::to_string(k + 1) + " from ";
+    const size_t at = s.find(key);
+    ASSERT_NE(at, std::string::npos) << s;
+    double y0 = 0, z0 = 0, y1 = 0, z1 = 0;
+    ASSERT_EQ(std::sscanf(s.c_str() + at + key.size(), "%lf,%lf to %lf,%lf", &y0, &z0, &y1, &z1),
+              4)
+        << s.substr(at, 80);
+    const Plane& p = planes[k];
+    // The script prints 6 significant digits.
+    EXPECT_NEAR(p.normal.y() * y0 + p.normal.z() * z0, p.offset, 1e-6) << s.substr(at, 80);
+    EXPECT_NEAR(p.normal.y() * y1 + p.normal.z() * z1, p.offset, 1e-6) << s.substr(at, 80);
+    EXPECT_GT(std::hypot(y1 - y0, z1 - z0), 0.01) << s.substr(at, 80);
+  }
   std::filesystem::remove_all(dir);
 }
 
