@@ -11,10 +11,12 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/geometry/moments.hpp"
+#include "rbaa/mesh/grid_mesh.hpp"
 #include "rbaa/mesh/topology.hpp"
 #include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
@@ -297,6 +299,40 @@ TEST(AttackProblem, TwoBodyDirectedGradientMatchesFiniteDifferencesPerField) {
                 "")
           << design_field_name(field) << " " << objective;
     }
+  }
+}
+
+// A directed objective divides by the scored body's length L_B squared: a length that is zero,
+// negative or not finite is refused by the body's name, in one line; a positive one builds it.
+TEST(AttackProblem, ADirectedObjectiveRefusesALengthThatIsNotPositive) {
+  const TetMesh mesh = box_tet_mesh({0, 0, 0}, {0.1, 0.1, 0.1}, 1, 1, 1);
+  Body body;
+  body.name = "bodies[0] (box)";
+  body.vertex_end = mesh.num_vertices();
+  body.element_end = mesh.num_tets();
+  const Eigen::VectorXd final_positions = Eigen::Map<const Eigen::VectorXd>(
+      Eigen::MatrixXd(mesh.V.transpose()).data(), 3 * mesh.num_vertices());
+  for (const auto kind : {ObjectiveSpec::Kind::kTarget, ObjectiveSpec::Kind::kAway}) {
+    ObjectiveSpec spec;
+    spec.kind = kind;
+    spec.component = 1;
+    spec.value = 0.5;
+    for (const double length : {0.0, -0.05, std::nan(""), HUGE_VAL}) {
+      try {
+        make_objective(spec, mesh, {body}, 0, 2500.0, final_positions,
+                       Eigen::Vector3d::Constant(0.05), length);
+        ADD_FAILURE() << objective_kind_name(kind) << ": length " << length << " was accepted";
+      } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("body bodies[0] (box) has no positive radius of gyration"),
+                  std::string::npos)
+            << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      }
+    }
+    EXPECT_NE(make_objective(spec, mesh, {body}, 0, 2500.0, final_positions,
+                             Eigen::Vector3d::Constant(0.05), 0.04),
+              nullptr);
   }
 }
 
