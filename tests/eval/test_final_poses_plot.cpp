@@ -11,9 +11,8 @@
 #include <sstream>
 #include <string>
 
-#include <unistd.h>
-
 #include "rbaa/error.hpp"
+#include "io/io_test_support.hpp"
 #include "rbaa/eval/final_poses_plot.hpp"
 
 namespace rbaa {
@@ -153,12 +152,7 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
 // (n_y y + n_z z = offset), for a slanted floor (drawn across the view's y range) and a steep wall
 // (drawn across its z range). The ground of the test above has n_y = 0, so it cannot tell.
 TEST(FinalPosesPlot, SlantedPlanesAreDrawnOnThemselves) {
-  const std::string dir =
-      (std::filesystem::temp_directory_path() /
-       ("rbaa_final_poses_planes_" + std::to_string(::getpid())))
-          .string();
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const test::ScratchDir dir;
   const Eigen::Vector3d low(0, 0, 0.026), high(0, -0.0225, 0.077);
   const std::vector<BodyShape> shapes = {cube("bottom", low, 0.05), cube("middle", high, 0.05)};
   const std::vector<DemonstrationRun> runs = {
@@ -169,8 +163,8 @@ TEST(FinalPosesPlot, SlantedPlanesAreDrawnOnThemselves) {
   const std::vector<Plane> planes = {
       Plane{Eigen::Vector3d(0, -0.5, std::sqrt(3.0) / 2), -0.004},  // a floor tilted 30 deg
       Plane{Eigen::Vector3d(0, -0.96, 0.28), -0.09}};               // a wall leaning over +y
-  write_final_poses_plot(dir + "/poses", "stack", shapes, runs, planes);
-  std::ifstream gp(dir + "/poses.gp");
+  write_final_poses_plot(dir.file("poses"), "stack", shapes, runs, planes);
+  std::ifstream gp(dir.file("poses.gp"));
   std::stringstream script;
   script << gp.rdbuf();
   const std::string s = script.str();
@@ -190,7 +184,6 @@ TEST(FinalPosesPlot, SlantedPlanesAreDrawnOnThemselves) {
     EXPECT_NEAR(p.normal.y() * y1 + p.normal.z() * z1, p.offset, 1e-6) << s.substr(at, 80);
     EXPECT_GT(std::hypot(y1 - y0, z1 - z0), 0.01) << s.substr(at, 80);
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
