@@ -6,13 +6,12 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
-#include "rbaa/error.hpp"
 #include "io/io_test_support.hpp"
+#include "rbaa/error.hpp"
 #include "rbaa/eval/final_poses_plot.hpp"
 
 namespace rbaa {
@@ -61,6 +60,20 @@ BodyPath moved(const std::string& name, const Eigen::Vector3d& from, const Eigen
   return p;
 }
 
+// The two-cube stack the pictures below draw: the bottom cube and the middle one offset along -y.
+const Eigen::Vector3d kLow(0, 0, 0.026), kHigh(0, -0.0225, 0.077);
+std::vector<BodyShape> two_cubes() {
+  return {cube("bottom", kLow, 0.05), cube("middle", kHigh, 0.05)};
+}
+// Its final poses: standing (nothing moves), or toppled (the middle cube falls off along +y onto
+// its side, or ends `far` along y).
+std::vector<BodyPath> standing() {
+  return {moved("bottom", kLow, kLow, 0), moved("middle", kHigh, kHigh, 0)};
+}
+std::vector<BodyPath> toppled(double far = 0.06) {
+  return {moved("bottom", kLow, kLow, 0), moved("middle", kHigh, Eigen::Vector3d(0, far, 0.026), 90)};
+}
+
 TEST(FinalOutline, ACubeTurned45DegAboutXIsADiamondInTheSideView) {
   const BodyShape c = cube("top", Eigen::Vector3d(0, 0, 0.1), 0.05);
   const BodyPath p = moved("top", Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0.2, 0.03), 45);
@@ -78,35 +91,17 @@ TEST(FinalOutline, ACubeTurned45DegAboutXIsADiamondInTheSideView) {
 }
 
 TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / "rbaa_final_poses_test").string();
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  const Eigen::Vector3d low(0, 0, 0.026), high(0, -0.0225, 0.077);
-  const std::vector<BodyShape> shapes = {cube("bottom", low, 0.05), cube("middle", high, 0.05)};
-  // Standing: nothing moves. Toppled: the middle cube falls off along +y onto its side.
+  const test::ScratchDir dir;
   const std::vector<DemonstrationRun> runs = {
-      {"rigid reference",
-       "rigid",
-       "reference",
-       {moved("bottom", low, low, 0), moved("middle", high, high, 0)}},
+      {"rigid reference", "rigid", "reference", standing()},
       {"rigid adversarial", "rigid", "adversarial", {}},  // not made: no panel
-      {"deformable adversarial",
-       "deformable",
-       "adversarial",
-       {moved("bottom", low, low, 0), moved("middle", high, Eigen::Vector3d(0, 0.06, 0.026), 90)}},
+      {"deformable adversarial", "deformable", "adversarial", toppled()},
       // Knocked 2 m away: named, not drawn, so the others keep their size.
-      {"deformable soft control",
-       "deformable",
-       "soft control",
-       {moved("bottom", low, low, 0), moved("middle", high, Eigen::Vector3d(0, 2, 0.026), 90)}}};
+      {"deformable soft control", "deformable", "soft control", toppled(2.0)}};
   const std::vector<Plane> ground = {Plane{Eigen::Vector3d::UnitZ(), 0.0}};
-  write_final_poses_plot(dir + "/poses", "stack", shapes, runs, ground);
+  write_final_poses_plot(dir.file("poses"), "stack", two_cubes(), runs, ground);
 
-  std::ifstream gp(dir + "/poses.gp");
-  std::stringstream script;
-  script << gp.rdbuf();
-  const std::string s = script.str();
+  const std::string s = test::read_text(dir.file("poses.gp"));
   EXPECT_NE(s.find("set multiplot layout 2,2"), std::string::npos) << s;
   EXPECT_NE(s.find("set title 'rigid reference'"), std::string::npos) << s;
   EXPECT_NE(s.find("set title 'deformable adversarial'"), std::string::npos) << s;
@@ -126,7 +121,7 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
   EXPECT_LT(y_hi, 0.2);
 
   // The toppled panel's middle cube: a closed square (5 rows) about (0.06, 0.026).
-  std::ifstream data(dir + "/poses_1.dat");
+  std::ifstream data(dir.file("poses_1.dat"));
   std::string line;
   int block = -1, rows = 0;
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
@@ -145,7 +140,6 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
   EXPECT_EQ(rows, 5);
   EXPECT_NEAR(sum.x() / 4, 0.06, 1e-12);
   EXPECT_NEAR(sum.y() / 4, 0.026, 1e-12);
-  std::filesystem::remove_all(dir);
 }
 
 // Planes are drawn where they are: each arrow's two ends lie on its plane in the side view
@@ -153,21 +147,13 @@ TEST(FinalPosesPlot, OnePanelPerRunWithEveryBodysOutline) {
 // (drawn across its z range). The ground of the test above has n_y = 0, so it cannot tell.
 TEST(FinalPosesPlot, SlantedPlanesAreDrawnOnThemselves) {
   const test::ScratchDir dir;
-  const Eigen::Vector3d low(0, 0, 0.026), high(0, -0.0225, 0.077);
-  const std::vector<BodyShape> shapes = {cube("bottom", low, 0.05), cube("middle", high, 0.05)};
   const std::vector<DemonstrationRun> runs = {
-      {"deformable adversarial",
-       "deformable",
-       "adversarial",
-       {moved("bottom", low, low, 0), moved("middle", high, Eigen::Vector3d(0, 0.06, 0.026), 90)}}};
+      {"deformable adversarial", "deformable", "adversarial", toppled()}};
   const std::vector<Plane> planes = {
       Plane{Eigen::Vector3d(0, -0.5, std::sqrt(3.0) / 2), -0.004},  // a floor tilted 30 deg
       Plane{Eigen::Vector3d(0, -0.96, 0.28), -0.09}};               // a wall leaning over +y
-  write_final_poses_plot(dir.file("poses"), "stack", shapes, runs, planes);
-  std::ifstream gp(dir.file("poses.gp"));
-  std::stringstream script;
-  script << gp.rdbuf();
-  const std::string s = script.str();
+  write_final_poses_plot(dir.file("poses"), "stack", two_cubes(), runs, planes);
+  const std::string s = test::read_text(dir.file("poses.gp"));
   ASSERT_NE(s.find("set xlabel 'y (m)'"), std::string::npos) << s;
   ASSERT_NE(s.find("set ylabel 'z (m)'"), std::string::npos) << s;
   for (int k = 0; k < 2; ++k) {
