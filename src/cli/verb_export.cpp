@@ -79,7 +79,8 @@ RBAA_REGISTER_VERB(export, rbaa::cli::Verb{
     "DIR/obstacle_<i>.obj, the placed obstacle meshes, both with is_obstacle; gravity as\n"
     "boundary_conditions.rhs = -g; BDF with the scene's order, h and T; contact.dhat, the\n"
     "friction coefficient (PolyFEM has one: scenes with differing coefficients are refused) and\n"
-    "epsv; Neo-Hookean material; every body's initial rigid velocity field v + w x (x - c);\n"
+    "epsv, solver.contact.friction_iterations (the scene's contact.friction_iterations);\n"
+    "Neo-Hookean material; every body's initial rigid velocity field v + w x (x - c);\n"
     "driven vertices as Dirichlet conditions (Rodrigues' rotation at a constant angular velocity;\n"
     "drives with a table are refused); solver.nonlinear.grad_norm_tol = 1e-5 (PolyFEM's default\n"
     "1e-10 is below the round-off of GPa materials' elastic forces at an impact).",

@@ -148,6 +148,11 @@ void check_linearisation_inputs(const Simulator& sim, const MaterialField& mater
   if (!traj.step_sizes.empty() && static_cast<int>(traj.step_sizes.size()) != N) {
     throw InputError(who + ": the trajectory's step sizes do not match its steps");
   }
+  if (sim.settings().friction_iterations > 1) {
+    throw InputError(who + ": friction is re-lagged within each step (friction iterations " +
+                     std::to_string(sim.settings().friction_iterations) +
+                     "), which only forward runs do: the derivatives take the lag at q_n (set 1)");
+  }
   if (traj.integrator != sim.settings().integrator || traj.time_step != sim.settings().time_step) {
     throw InputError(who + ": the trajectory was not produced with the simulator's integrator and h");
   }

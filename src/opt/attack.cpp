@@ -290,6 +290,12 @@ AttackResult run_attack(const Scene& scene, const AttackOptions& options) {
   auto stage = [&](const std::string& s) {
     if (options.on_stage) options.on_stage(s);
   };
+  if (scene.friction_iterations > 1) {
+    throw InputError(scene.source + ": contact.friction_iterations " +
+                     std::to_string(scene.friction_iterations) +
+                     " re-lags friction within each step, which only forward runs (simulate, "
+                     "evaluate) do: an attack's gradient takes the lag at q_n (set 1)");
+  }
   AttackResult r;
   // Mesh, kappa, settings, reference run, objective, design: the attacked body A is designed in
   // the scene's world (alone, or among its further bodies, which keep their materials).

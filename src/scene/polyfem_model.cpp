@@ -125,6 +125,7 @@ PolyfemScene polyfem_model(const Scene& scene, const ExportObject& object) {
   s.mass = scene.mass;
   s.d_hat = scene.d_hat;
   s.friction_eps_v = scene.friction_eps_v;
+  s.friction_iterations = scene.friction_iterations;
   const auto coefficients = friction_coefficients(scene);
   s.friction = coefficients.empty() ? scene.friction : coefficients.front().second;
   for (const auto& [who, mu] : coefficients) {

@@ -260,6 +260,7 @@ PolyfemExportResult write_polyfem_scene(const std::string& dir, const PolyfemSce
   // round-off at an impact is above that, so Newton never meets it and PolyFEM aborts at the
   // iteration limit; the looser tolerance stops at what double precision resolves.
   scene["solver"] = {{"nonlinear", {{"grad_norm_tol", s.grad_norm_tol}}},
+                     {"contact", {{"friction_iterations", s.friction_iterations}}},
                      {"advanced", {{"lump_mass_matrix", s.mass == MassModel::kLumped}}}};
   scene["output"] = {{"paraview", {{"file_name", "result.vtu"}}}};
   result.json_file = at("scene.json");

@@ -618,6 +618,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
     }
     s.friction = c.number("friction", s.friction, 0.0, inf);
     s.friction_eps_v = c.number("friction_eps_v", s.friction_eps_v, 0.0, inf, true);
+    s.friction_iterations = c.integer("friction_iterations", s.friction_iterations, 1, 100);
     if (c.has("pairs")) {
       // [{bodies: [name, name], friction: mu}]: names are "object" and the bodies' names.
       const YAML::Node pairs = c.child("pairs");

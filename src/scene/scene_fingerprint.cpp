@@ -120,6 +120,7 @@ std::string scene_fingerprint_text(const Scene& s) {
   if (s.contact_substeps > 0) t << "time.contact_substeps " << s.contact_substeps << "\n";
   t << "contact.d_hat " << number(s.d_hat) << "\n";
   t << "contact.kappa " << number(s.kappa) << "\n";
+  if (s.friction_iterations != 1) t << "contact.friction_iterations " << s.friction_iterations << "\n";
   t << "newton.tolerance " << number(s.newton_tolerance) << "\n";
   // The predictor changes results within Newton's tolerance; the default keeps older checkpoints'
   // fingerprints.

@@ -94,6 +94,7 @@ SimulationSettings simulation_settings(const Scene& scene, double kappa) {
   s.obstacle_meshes = scene.obstacle_meshes;
   s.d_hat = scene.d_hat;
   s.friction_eps_v = scene.friction_eps_v;
+  s.friction_iterations = scene.friction_iterations;
   s.body_friction = body_friction(scene);
   s.kappa = kappa;
   s.newton_tolerance = scene.newton_tolerance;

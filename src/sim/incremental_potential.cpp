@@ -135,6 +135,13 @@ void IncrementalPotential::lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd
   }
 }
 
+void IncrementalPotential::relag(const Eigen::VectorXd& x) {
+  for (const Term& t : terms_) {
+    const ScopeTimer timer(t.seconds);
+    t.form->relag(x);
+  }
+}
+
 void IncrementalPotential::add_history_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
                                                Eigen::VectorXd& bar_n,
                                                Eigen::VectorXd& bar_previous) const {

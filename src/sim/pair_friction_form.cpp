@@ -100,8 +100,8 @@ PairFrictionForm::PairFrictionForm(const MeshObstacleForm* obstacles, std::vecto
   set_step_rule(bdf_step_rule(integrator, time_step, time_step));
 }
 
-void PairFrictionForm::add_pair(LaggedFrictionPair p, const contact::Barrier& barrier, double kappa,
-                                const Eigen::VectorXd& q_previous) {
+void PairFrictionForm::add_pair(LaggedFrictionPair p, const contact::Barrier& barrier,
+                                double kappa) {
   if (p.mu == 0) return;
   const ContactPairPoints& P = p.points;
   p.type =
@@ -117,30 +117,39 @@ void PairFrictionForm::add_pair(LaggedFrictionPair p, const contact::Barrier& ba
     p.gamma_basis.block<3, 2>(3 * i, 0) = f.gamma[i] * f.basis;
     const int v = P.vertex[i];
     p.x_tilde.segment<3>(3 * i) =
-        v >= 0 ? Eigen::Vector3d(a0_ * P.x[i] + a1_ * q_previous.segment<3>(3 * v)) : P.x[i];
+        v >= 0 ? Eigen::Vector3d(a0_ * q_n_.segment<3>(3 * v) + a1_ * q_previous_.segment<3>(3 * v))
+               : P.x[i];
   }
   pairs_.push_back(p);
 }
 
 void PairFrictionForm::lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) {
+  q_n_ = q_n;
+  q_previous_ = q_previous;
+  lag_at(q_n);
+}
+
+void PairFrictionForm::relag(const Eigen::VectorXd& x) { lag_at(x); }
+
+void PairFrictionForm::lag_at(const Eigen::VectorXd& q_lag) {
   pairs_.clear();
   if (obstacles_) {
-    for (const ObstaclePair& op : obstacles_->active_pairs(q_n)) {
+    for (const ObstaclePair& op : obstacles_->active_pairs(q_lag)) {
       LaggedFrictionPair p;
-      p.points = obstacles_->points(op, q_n);
+      p.points = obstacles_->points(op, q_lag);
       p.mesh = obstacles_->mesh_of_pair(op);
       p.mu = mesh_mu_[p.mesh];
-      add_pair(p, obstacles_->barrier(), obstacles_->kappa(), q_previous);
+      add_pair(p, obstacles_->barrier(), obstacles_->kappa());
     }
   }
   if (bodies_ && body_mu_.size() > 0) {
-    for (const BodyPair& bp : bodies_->active_pairs(q_n)) {
+    for (const BodyPair& bp : bodies_->active_pairs(q_lag)) {
       LaggedFrictionPair p;
-      p.points = bodies_->points(bp, q_n);
+      p.points = bodies_->points(bp, q_lag);
       p.body_a = bodies_->body_of_vertex(p.points.vertex[0]);
       p.body_b = bodies_->body_of_vertex(p.points.vertex[3]);
       p.mu = body_mu_(p.body_a, p.body_b);
-      add_pair(p, bodies_->barrier(), bodies_->kappa(), q_previous);
+      add_pair(p, bodies_->barrier(), bodies_->kappa());
     }
   }
 }

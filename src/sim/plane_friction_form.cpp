@@ -27,9 +27,17 @@ PlaneFrictionForm::PlaneFrictionForm(std::vector<int> surface_vertices, std::vec
 }
 
 void PlaneFrictionForm::lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) {
+  q_n_ = q_n;
+  q_previous_ = q_previous;
+  lag_at(q_n);
+}
+
+void PlaneFrictionForm::relag(const Eigen::VectorXd& x) { lag_at(x); }
+
+void PlaneFrictionForm::lag_at(const Eigen::VectorXd& q_lag) {
   pairs_.clear();
   for (int v : surface_vertices_) {
-    const Eigen::Vector3d x = q_n.segment<3>(3 * v);
+    const Eigen::Vector3d x = q_lag.segment<3>(3 * v);
     for (int p = 0; p < static_cast<int>(planes_.size()); ++p) {
       if (mu_[p] == 0) continue;
       const double d = vertex_plane_distance(x, planes_[p]);
@@ -39,7 +47,7 @@ void PlaneFrictionForm::lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q
       pair.plane = p;
       pair.normal_force = -kappa_ * barrier_.first_derivative(d);
       pair.normal_force_derivative = -kappa_ * barrier_.second_derivative(d);
-      pair.x_tilde = a0_ * x + a1_ * q_previous.segment<3>(3 * v);
+      pair.x_tilde = a0_ * q_n_.segment<3>(3 * v) + a1_ * q_previous_.segment<3>(3 * v);
       pairs_.push_back(pair);
     }
   }

@@ -34,6 +34,10 @@ const SimulationSettings& validated(const SimulationSettings& s) {
   if (!(s.exact_hessian_factor > 0)) throw InputError("simulation: the exact-Hessian switch factor must be > 0");
   if (s.num_steps < 0) throw InputError("simulation: negative number of steps");
   if (s.newton_max_iterations < 1) throw InputError("simulation: Newton needs at least 1 iteration");
+  if (s.friction_iterations < 1 || s.friction_iterations > 100) {
+    throw InputError("simulation: friction iterations " + std::to_string(s.friction_iterations) +
+                     " is not from 1 to 100");
+  }
   if (s.contact_substeps != 0 &&
       (s.contact_substeps < 2 || s.contact_substeps > 1024 ||
        (s.contact_substeps & (s.contact_substeps - 1)) != 0)) {
@@ -435,7 +439,36 @@ StepStats Simulator::advance() {
       x = rigid;
     }
   }
-  const NewtonResult r = newton_.minimize(*potential_, x, context.str());
+  NewtonResult r = newton_.minimize(*potential_, x, context.str());
+  // Friction re-lagged from the solution (SimulationSettings::friction_iterations), until a
+  // re-lagged solve takes no step: its first Newton iteration (the check) already converges. A
+  // lag without pairs before and after changes nothing (free flight, frictionless scenes).
+  auto lagged_pairs = [this] {
+    return (plane_friction_ ? plane_friction_->num_lagged_pairs() : 0) +
+           (pair_friction_ ? pair_friction_->num_lagged_pairs() : 0);
+  };
+  int relags = 0;
+  for (int i = 1; i < settings_.friction_iterations; ++i) {
+    const int before = lagged_pairs();
+    potential_->relag(x);
+    if (before == 0 && lagged_pairs() == 0) break;
+    ++relags;
+    const NewtonResult ri =
+        newton_.minimize(*potential_, x, context.str() + ", friction lag " + std::to_string(i + 1));
+    r.iterations += ri.iterations;
+    r.exact_factor = ri.exact_factor;
+    r.roundoff_limited = ri.roundoff_limited;
+    r.floor_velocity = ri.floor_velocity;
+    r.projected_fallbacks += ri.projected_fallbacks;
+    r.extrapolations += ri.extrapolations;
+    r.chord_steps += ri.chord_steps;
+    r.gradient_seconds += ri.gradient_seconds;
+    r.assembly_seconds += ri.assembly_seconds;
+    r.factorization_seconds += ri.factorization_seconds;
+    r.solve_seconds += ri.solve_seconds;
+    r.line_search_seconds += ri.line_search_seconds;
+    if (ri.iterations <= 1) break;
+  }
   integrator_.push(x);
   units_ += next_units_;
   ++step_;
@@ -448,6 +481,7 @@ StepStats Simulator::advance() {
   s.projected_fallbacks = r.projected_fallbacks;
   s.extrapolations = r.extrapolations;
   s.chord_steps = r.chord_steps;
+  s.friction_relags = relags;
   s.gradient_seconds = r.gradient_seconds;
   s.assembly_seconds = r.assembly_seconds;
   s.factorization_seconds = r.factorization_seconds;

@@ -90,10 +90,18 @@ TEST_F(Cli, ExportPolyfemBallFilesAgree) {
   EXPECT_EQ(scene["contact"]["dhat"], 1e-3);
   EXPECT_EQ(scene["contact"]["friction_coefficient"], 0.0);
   EXPECT_EQ(scene["solver"]["nonlinear"]["grad_norm_tol"], 1e-5);
+  // Friction lagged as rbaa lags it: once per step unless the scene says otherwise.
+  EXPECT_EQ(scene["solver"]["contact"]["friction_iterations"], 1);
   const nlohmann::json& velocity = scene["initial_conditions"]["velocity"];
   ASSERT_EQ(velocity.size(), 1u);
   EXPECT_EQ(velocity[0]["id"], 1);
   EXPECT_EQ(velocity[0]["value"].size(), 3u);
+
+  const std::string relagged = path("ball_relagged");
+  const auto r3 = run("export --format=polyfem " + kBall +
+                      "--set=contact.friction_iterations=3 --out=" + relagged);
+  ASSERT_EQ(r3.exit_code, 0) << r3.err;
+  EXPECT_EQ(read_json(relagged + "/scene.json")["solver"]["contact"]["friction_iterations"], 3);
 }
 
 TEST_F(Cli, ExportPolyfemMeshRoundTrip) {

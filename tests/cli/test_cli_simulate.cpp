@@ -197,6 +197,11 @@ TEST_F(CliSimulate, BadInputGivesOneLineErrors) {
   expect_failure("simulate --config=" + bad_h + " --out=" + path("o"), "time.step");
   expect_failure("simulate --config=" + path("missing.yaml") + " --out=" + path("o"), "missing.yaml");
   expect_failure("simulate --config=" + config + " --set=time.stepp=1 --out=" + path("o"), "time.stepp");
+  expect_failure("simulate --config=" + config + " --set=contact.friction_iterations=0 --out=" + path("o"),
+                 "contact.friction_iterations");
+  // Re-lagged friction is for forward runs: an attack refuses it before it simulates anything.
+  expect_failure("attack --config=" + config + " --set=contact.friction_iterations=2 --out=" + path("a"),
+                 "ball.yaml: contact.friction_iterations 2");
 }
 
 TEST_F(CliSimulate, EvaluateRejectsMissingAndMismatchedObjects) {

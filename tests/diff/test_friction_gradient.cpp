@@ -10,6 +10,8 @@
 #include <cstdio>
 
 #include "diff_fixtures.hpp"
+#include "rbaa/diff/adjoint.hpp"
+#include "rbaa/error.hpp"
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "support/intersection_free.hpp"
@@ -111,6 +113,31 @@ TEST(FrictionGradient, AdjointMatchesTheTangentLinearModel) {
   EXPECT_GE(r.active_contact_steps, 10);
   EXPECT_LE(r.max_tangent_relative_error, 1e-10);
   EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
+}
+
+// The derivatives take the lag at q_n (form.hpp): a simulator that re-lags friction within each
+// step (SimulationSettings::friction_iterations > 1) is refused by value, and 1 is accepted.
+TEST(FrictionGradient, TheAdjointRefusesASimulatorThatReLagsFriction) {
+  for (int k : {1, 2}) {
+    test::ThrownBall b = sliding_ball(0.5);
+    b.settings.num_steps = 4;
+    b.settings.friction_iterations = k;
+    const MaterialField m = MaterialField::uniform(b.mesh.num_tets(), 1e9, 0.3, 2500);
+    Simulator sim(b.mesh, m, b.settings);
+    const Trajectory t = sim.run(b.q0, b.v0);
+    TrajectorySeed seed = TrajectorySeed::empty(t.num_steps());
+    seed.dq.back() = Eigen::VectorXd::Ones(b.q0.size());
+    if (k == 1) {
+      EXPECT_NO_THROW(adjoint_gradient(sim, m, t, seed));
+      continue;
+    }
+    try {
+      adjoint_gradient(sim, m, t, seed);
+      ADD_FAILURE() << "the adjoint accepted friction re-lagged within each step";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("friction iterations 2"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

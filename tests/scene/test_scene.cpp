@@ -303,7 +303,7 @@ TEST(Scene, FingerprintSeesEverySettingThatChangesAResult) {
         "attack.project_moments=false", "attack.start=best_uniform",
         "attack.occupancy_penalty={weight: 1}", "attack.occupancy_penalty={connectivity_weight: 1}",
         "attack.occupancy_penalty={repair_in_loop: true}", "newton.rigid_predictor=false",
-        "newton.chord_start=false"}) {
+        "newton.chord_start=false", "contact.friction_iterations=2"}) {
     EXPECT_NE(scene_fingerprint(parse_scene(base, "a.yaml", "", {o})), fp) << o;
   }
 }

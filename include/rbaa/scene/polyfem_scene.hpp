@@ -40,6 +40,7 @@ struct PolyfemScene {
   double d_hat = 1e-3;           ///< m
   double friction = 0;           ///< PolyFEM's one (global) Coulomb coefficient
   double friction_eps_v = 1e-3;  ///< m/s
+  int friction_iterations = 1;   ///< solver.contact.friction_iterations (rbaa's, see Scene)
   /// Half the side of the square each analytic plane becomes (m); <= 0: plane_half_width().
   double plane_half_width = 0;
   /// polysolve's nonlinear.grad_norm_tol (see polyfem_scene.cpp for why not its 1e-10).

@@ -224,6 +224,9 @@ struct Scene {
   /// the object, body i + 1 is bodies[i]).
   std::vector<BodyPairFriction> friction_pairs;
   double friction_eps_v = 1e-3;  ///< friction's smoothing speed (m/s)
+  /// contact.friction_iterations: friction lagged up to this many times per step
+  /// (SimulationSettings::friction_iterations; forward runs only: `rbaa attack` refuses > 1).
+  int friction_iterations = 1;
 
   // Newton.
   double newton_tolerance = 1e-8;  ///< on ||dq||_inf / h, relative to the rest bbox diagonal per s

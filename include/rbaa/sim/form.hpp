@@ -60,6 +60,11 @@ class Form {
 
   /// Fixes the form's dependence on the newest position q_n and the one before it.
   virtual void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) {}
+  /// Re-takes the lag at x, the step's solution so far, keeping what lag() took from the history
+  /// (friction's x~ from q_n and q_{n-1}): the pairs, normal forces and frames are then x's.
+  /// Forward runs only (SimulationSettings::friction_iterations): the history hooks below
+  /// differentiate the lag at q_n.
+  virtual void relag(const Eigen::VectorXd& x) {}
   /// bar_n += -(dG/dq_n)^T a and bar_previous += -(dG/dq_{n-1})^T a for G's term scale grad E at x.
   virtual void add_history_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a, double scale,
                                    Eigen::VectorXd& bar_n, Eigen::VectorXd& bar_previous) const {}

@@ -44,6 +44,8 @@ class IncrementalPotential {
 
   /// The forms' history hooks (form.hpp), each term with its weight as scale.
   void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous);
+  /// Form::relag on every form.
+  void relag(const Eigen::VectorXd& x);
   void add_history_adjoint(const Eigen::VectorXd& x, const Eigen::VectorXd& a,
                            Eigen::VectorXd& bar_n, Eigen::VectorXd& bar_previous) const;
   void add_history_tangent(const Eigen::VectorXd& x, const Eigen::VectorXd& dq_n,

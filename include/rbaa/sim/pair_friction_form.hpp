@@ -71,6 +71,9 @@ class PairFrictionForm : public Form {
   /// Lags the pairs closer than d_hat at q_n (the contact forms' active pairs there), their
   /// normal forces, frames and x~ from q_n and q_{n-1}.
   void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) override;
+  /// The pairs closer than d_hat at x, their normal forces and frames from x; x~ from lag()'s
+  /// q_n and q_{n-1}.
+  void relag(const Eigen::VectorXd& x) override;
 
   const char* name() const override { return "pair friction"; }
   double value(const Eigen::VectorXd& x) const override;
@@ -105,9 +108,10 @@ class PairFrictionForm : public Form {
     double y, f1_over_y, c1;
   };
   Slip slip(const LaggedFrictionPair& p, const Eigen::VectorXd& x) const;
-  // Appends the pair at q_n (skipped when mu is 0).
-  void add_pair(LaggedFrictionPair p, const contact::Barrier& barrier, double kappa,
-                const Eigen::VectorXd& q_previous);
+  // The pairs closer than d_hat at q_lag, with x~ from q_n_ and q_previous_.
+  void lag_at(const Eigen::VectorXd& q_lag);
+  // Appends the pair at its points' positions (skipped when mu is 0).
+  void add_pair(LaggedFrictionPair p, const contact::Barrier& barrier, double kappa);
   // d lambda / d(the pair's 12 coordinates at q_n), for the lagged distance type.
   contact::Vector12d normal_force_gradient(const LaggedFrictionPair& p) const;
   // J_n = dG_k/dz and J_p = dG_k/dz_previous over the pair's 12 coordinates at q_n and q_{n-1}
@@ -122,6 +126,7 @@ class PairFrictionForm : public Form {
   double eps_v_;
   double eps_;
   double a0_, a1_;  // x~ = a0 q_n + a1 q_{n-1}
+  Eigen::VectorXd q_n_, q_previous_;  // lag()'s history
   std::vector<LaggedFrictionPair> pairs_;
 };
 

@@ -40,6 +40,8 @@ class PlaneFrictionForm : public Form {
 
   /// Lags the pairs, normal forces and x~ from the newest position q_n and the one before it.
   void lag(const Eigen::VectorXd& q_n, const Eigen::VectorXd& q_previous) override;
+  /// The pairs and normal forces from x instead; x~ stays lag()'s.
+  void relag(const Eigen::VectorXd& x) override;
 
   const char* name() const override { return "friction"; }
   double value(const Eigen::VectorXd& x) const override;
@@ -96,7 +98,11 @@ class PlaneFrictionForm : public Form {
   double kappa_;
   double eps_v_;
   double eps_;
+  // The pairs closer than d_hat at q_lag, with x~ from q_n_ and q_previous_.
+  void lag_at(const Eigen::VectorXd& q_lag);
+
   double a0_, a1_;  // x~ = a0 q_n + a1 q_{n-1}
+  Eigen::VectorXd q_n_, q_previous_;  // lag()'s history
   std::vector<Pair> pairs_;
 };
 

@@ -81,6 +81,14 @@ struct SimulationSettings {
   /// (Trajectory::step_sizes) and what the refinement cost (Trajectory::resolving). A body
   /// resting on something stays at h/k.
   int contact_substeps = 0;
+  /// Friction lagged this many times per step (IPC's lagged iterations, PolyFEM's
+  /// solver.contact.friction_iterations): 1 lags the pairs, normal forces and frames once, from
+  /// q_n, so a pair that closes within a step has no friction in it and an impact's friction is
+  /// bounded by the normal forces before it. k > 1 re-lags them from the step's solution and
+  /// solves again, up to k - 1 times, stopping once a re-lagged solve needs no Newton step.
+  /// Forward runs only: the adjoint and tangent passes differentiate the lag at q_n and refuse
+  /// k > 1. 1 .. 100.
+  int friction_iterations = 1;
 };
 
 class Simulator {

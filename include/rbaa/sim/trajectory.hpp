@@ -21,6 +21,9 @@ struct StepStats {
   int projected_fallbacks = 0;
   int extrapolations = 0;        ///< Newton step doublings (newton_solver.cpp)
   int chord_steps = 0;           ///< chord steps on the previous step's factor (0 or 1)
+  /// Friction re-lagged from the step's solution and solved again (friction_iterations > 1);
+  /// newton_iterations includes those solves' iterations
+  int friction_relags = 0;
   double min_distance = 0;       ///< smallest vertex-obstacle distance at the new q (m)
   int active_pairs = 0;          ///< contact pairs closer than d_hat at the new q
   /// Sum of the forces (N) the drives exert on their driven vertices at the new q: the full
