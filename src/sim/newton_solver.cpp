@@ -115,6 +115,24 @@ double NewtonSolver::chord_step(IncrementalPotential& E, Eigen::VectorXd& x, New
   return velocity;
 }
 
+void NewtonResult::append(const NewtonResult& later) {
+  iterations += later.iterations;
+  exact_factor = later.exact_factor;
+  step_velocity = later.step_velocity;
+  line_search_halvings += later.line_search_halvings;
+  line_search_probes += later.line_search_probes;
+  projected_fallbacks += later.projected_fallbacks;
+  extrapolations += later.extrapolations;
+  chord_steps += later.chord_steps;
+  roundoff_limited = later.roundoff_limited;
+  floor_velocity = later.floor_velocity;
+  gradient_seconds += later.gradient_seconds;
+  assembly_seconds += later.assembly_seconds;
+  factorization_seconds += later.factorization_seconds;
+  solve_seconds += later.solve_seconds;
+  line_search_seconds += later.line_search_seconds;
+}
+
 NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
                                     const std::string& context) {
   const double h = settings_.time_step;

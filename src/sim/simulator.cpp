@@ -455,18 +455,7 @@ StepStats Simulator::advance() {
     ++relags;
     const NewtonResult ri =
         newton_.minimize(*potential_, x, context.str() + ", friction lag " + std::to_string(i + 1));
-    r.iterations += ri.iterations;
-    r.exact_factor = ri.exact_factor;
-    r.roundoff_limited = ri.roundoff_limited;
-    r.floor_velocity = ri.floor_velocity;
-    r.projected_fallbacks += ri.projected_fallbacks;
-    r.extrapolations += ri.extrapolations;
-    r.chord_steps += ri.chord_steps;
-    r.gradient_seconds += ri.gradient_seconds;
-    r.assembly_seconds += ri.assembly_seconds;
-    r.factorization_seconds += ri.factorization_seconds;
-    r.solve_seconds += ri.solve_seconds;
-    r.line_search_seconds += ri.line_search_seconds;
+    r.append(ri);
     if (ri.iterations <= 1) break;
   }
   integrator_.push(x);

@@ -202,6 +202,8 @@ TEST_F(CliSimulate, BadInputGivesOneLineErrors) {
   // Re-lagged friction is for forward runs: an attack refuses it before it simulates anything.
   expect_failure("attack --config=" + config + " --set=contact.friction_iterations=2 --out=" + path("a"),
                  "ball.yaml: contact.friction_iterations 2");
+  expect_failure("attack --config=" + config + " --set=contact.friction_iterations=3 --out=" + path("a"),
+                 "takes the lag at q_n (set 1)");
 }
 
 TEST_F(CliSimulate, EvaluateRejectsMissingAndMismatchedObjects) {

@@ -17,6 +17,7 @@
 #include "mesh_fixtures.hpp"
 #include "obstacle_fixtures.hpp"
 #include "rbaa/error.hpp"
+#include "rbaa/sim/newton_solver.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
 #include "support/intersection_free.hpp"
@@ -31,6 +32,8 @@ struct Landing {
   double ratio = 0;          // -F_x / F_z of the floor on the box in that step
   double normal_force = 0;   // F_z (N)
   int relags = 0;            // that step's friction re-lags
+  int newton = 0;            // that step's Newton iterations, re-lagged solves included
+  Eigen::VectorXd final_q;   // the run's last positions
   int free_flight_relags = 0;  // summed over the steps before it
   int free_flight_newton = 0;  // Newton iterations summed over the steps before it
   std::string intersection;
@@ -71,6 +74,7 @@ Landing land(bool on_mesh, int friction_iterations) {
   Landing r;
   r.intersection = test::first_intersection(mesh, s, t);
   const Eigen::VectorXd& m = sim.vertex_masses();
+  r.final_q = t.q.back();
   for (int k = 0; k < t.num_steps(); ++k) {
     if (t.steps[k].min_distance >= kDhat) {
       r.free_flight_relags += t.steps[k].friction_relags;
@@ -88,6 +92,7 @@ Landing land(bool on_mesh, int friction_iterations) {
     r.ratio = -F.x() / F.z();
     r.normal_force = F.z();
     r.relags = t.steps[k].friction_relags;
+    r.newton = t.steps[k].newton_iterations;
     break;
   }
   return r;
@@ -112,6 +117,8 @@ TEST_P(FrictionIterations, ReLaggedFrictionActsInTheStepThatLands) {
   // Re-lagged: Coulomb within the step.
   EXPECT_GE(relagged.relags, 1);
   EXPECT_NEAR(relagged.ratio, kMu, 1e-4 * kMu);  // measured 7.5e-6 relative
+  // The first solve is the lagged-once step's; each re-lagged solve adds at least the check.
+  EXPECT_GE(relagged.newton, once.newton + relagged.relags);
   // Free flight: nothing lagged before or after, no re-solve.
   EXPECT_EQ(relagged.free_flight_relags, 0);
   EXPECT_EQ(relagged.free_flight_newton, once.free_flight_newton);
@@ -119,10 +126,69 @@ TEST_P(FrictionIterations, ReLaggedFrictionActsInTheStepThatLands) {
   EXPECT_EQ(relagged.intersection, "");
 }
 
+// k bounds the re-lags at k - 1, and the re-lagging stops at convergence, not at the bound: 20
+// and 100 allowed give the same run bit for bit.
+TEST_P(FrictionIterations, ReLagsStopAtTheBoundOrAtConvergence) {
+  const bool on_mesh = GetParam();
+  EXPECT_EQ(land(on_mesh, 2).relags, 1);
+  EXPECT_EQ(land(on_mesh, 3).relags, 2);
+  const Landing twenty = land(on_mesh, 20), hundred = land(on_mesh, 100);
+  EXPECT_LT(twenty.relags, 19);
+  EXPECT_EQ(hundred.relags, twenty.relags);
+  EXPECT_EQ(hundred.newton, twenty.newton);
+  EXPECT_EQ((hundred.final_q - twenty.final_q).lpNorm<Eigen::Infinity>(), 0.0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Floors, FrictionIterations, ::testing::Values(false, true),
                          [](const ::testing::TestParamInfo<bool>& p) {
                            return p.param ? "Mesh" : "Plane";
                          });
+
+// A step's statistics over its re-lagged solves (NewtonResult::append): counts and seconds add,
+// the returned iterate's descriptions are the later solve's.
+TEST(FrictionIterations, AStepsNewtonStatisticsAddUpOverItsSolves) {
+  auto result = [](double base) {
+    NewtonResult r;
+    r.iterations = static_cast<int>(base);
+    r.exact_factor = base > 1;
+    r.step_velocity = base + 0.5;
+    r.line_search_halvings = static_cast<int>(2 * base);
+    r.line_search_probes = static_cast<int>(3 * base);
+    r.projected_fallbacks = static_cast<int>(4 * base);
+    r.extrapolations = static_cast<int>(5 * base);
+    r.chord_steps = static_cast<int>(6 * base);
+    r.roundoff_limited = base > 1;
+    r.floor_velocity = base + 0.25;
+    r.gradient_seconds = 0.1 * base;
+    r.assembly_seconds = 0.2 * base;
+    r.factorization_seconds = 0.3 * base;
+    r.solve_seconds = 0.4 * base;
+    r.line_search_seconds = 0.5 * base;
+    return r;
+  };
+  NewtonResult r = result(1);
+  r.append(result(10));
+  EXPECT_EQ(r.iterations, 11);
+  EXPECT_TRUE(r.exact_factor);
+  EXPECT_EQ(r.step_velocity, 10.5);
+  EXPECT_EQ(r.line_search_halvings, 22);
+  EXPECT_EQ(r.line_search_probes, 33);
+  EXPECT_EQ(r.projected_fallbacks, 44);
+  EXPECT_EQ(r.extrapolations, 55);
+  EXPECT_EQ(r.chord_steps, 66);
+  EXPECT_TRUE(r.roundoff_limited);
+  EXPECT_EQ(r.floor_velocity, 10.25);
+  EXPECT_DOUBLE_EQ(r.gradient_seconds, 1.1);
+  EXPECT_DOUBLE_EQ(r.assembly_seconds, 2.2);
+  EXPECT_DOUBLE_EQ(r.factorization_seconds, 3.3);
+  EXPECT_DOUBLE_EQ(r.solve_seconds, 4.4);
+  EXPECT_DOUBLE_EQ(r.line_search_seconds, 5.5);
+  // And the other way round: the later solve's false flags win too.
+  NewtonResult back = result(10);
+  back.append(result(1));
+  EXPECT_FALSE(back.exact_factor);
+  EXPECT_FALSE(back.roundoff_limited);
+}
 
 TEST(FrictionIterationsErrors, OutOfRangeCountsAreRefusedByValue) {
   const TetMesh mesh = box();

@@ -75,6 +75,11 @@ struct NewtonResult {
   double factorization_seconds = 0;  ///< CHOLMOD numeric factorisations (incl. failed ones)
   double solve_seconds = 0;          ///< triangular solves
   double line_search_seconds = 0;    ///< step transform, CCD, energy differences
+
+  /// This result followed by `later`, a further minimize from where this one stopped (friction
+  /// re-lagged, simulator.cpp): counts and seconds add up; what describes the returned iterate
+  /// (exact_factor, step_velocity, roundoff_limited, floor_velocity) is `later`'s.
+  void append(const NewtonResult& later);
 };
 
 /// What one Newton iteration did (for progress reports and diagnosis).
