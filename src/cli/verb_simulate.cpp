@@ -109,9 +109,10 @@ RBAA_REGISTER_VERB(simulate, rbaa::cli::Verb{
     "Writes DIR/trajectory.csv (per step: time, centre of mass, linear and angular momentum,\n"
     "orientation quaternion, minimum contact distance, Newton iterations),\n"
     "DIR/trajectory.pvd with DIR/frames/*.vtu for ParaView, and DIR/report.json (steps, Newton\n"
-    "iterations, kappa, timings, and every contact episode: its kind, planes and normal\n"
-    "velocities; a restitution only for a one-plane contact whose normal velocity reversed;\n"
-    "contact with mesh obstacles shows in the minimum distance, not yet as episodes).\n"
+    "iterations and friction re-lags, kappa, timings, and every contact episode: its kind,\n"
+    "planes and normal velocities; a restitution only for a one-plane contact whose normal\n"
+    "velocity reversed; contact with mesh obstacles shows in the minimum distance, not yet as\n"
+    "episodes).\n"
     "With time.contact_substeps = k steps shrink to h/k around contact; trajectory.csv keeps one\n"
     "row per step of h and report.json's contact_resolving says what the sub-steps did.",
     flags(), run_simulate});

@@ -248,7 +248,7 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
   r["kappa_source"] = run.kappa_from_rule ? "energy rule (SPEC 2)" : "config";
   r["d_hat"] = run.settings.d_hat;
   std::vector<int> iterations;
-  int total = 0, max_it = 0, exact = 0, floor_limited = 0;
+  int total = 0, max_it = 0, exact = 0, floor_limited = 0, relags = 0;
   double floor_velocity = 0;
   double dmin = std::numeric_limits<double>::infinity();
   for (const StepStats& s : t.steps) {
@@ -256,6 +256,7 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
     total += s.newton_iterations;
     max_it = std::max(max_it, s.newton_iterations);
     exact += s.exact_factor ? 1 : 0;
+    relags += s.friction_relags;
     if (s.roundoff_limited) {
       ++floor_limited;
       floor_velocity = std::max(floor_velocity, s.floor_velocity);
@@ -272,7 +273,9 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                  {"max_iterations_in_a_step", max_it},
                  {"steps_ending_with_exact_factor", exact},
                  {"steps_stopped_at_roundoff_floor", floor_limited},
-                 {"roundoff_floor_m_per_s", floor_velocity}};
+                 {"roundoff_floor_m_per_s", floor_velocity},
+                 {"friction_iterations", run.settings.friction_iterations},
+                 {"friction_relags", relags}};
   r["min_contact_distance"] = std::isfinite(dmin) ? nlohmann::json(dmin) : nlohmann::json(nullptr);
   nlohmann::json bounces = nlohmann::json::array();
   // One entry per contact episode; only a one-plane contact whose normal velocity reversed has a

@@ -185,6 +185,28 @@ TEST_F(CliSimulate, CornerContactIsReportedWithItsPlanesAndNoRestitution) {
   EXPECT_NE(r.err.find("no restitution: planes 0 and 1"), std::string::npos) << r.err;
 }
 
+// report.json says how often friction was re-lagged (contact.friction_iterations): never by
+// default, and in the steps of the ball's contact with the wall when asked to.
+TEST_F(CliSimulate, ReportCountsFrictionReLags) {
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  for (int k : {1, 3}) {
+    const std::string out = path("relag" + std::to_string(k));
+    const Result r = run("simulate --config=" + config + " --set=contact.friction=0.5" +
+                         " --set=contact.friction_iterations=" + std::to_string(k) +
+                         " --vtu_every=0 --out=" + out);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream in(out + "/report.json");
+    const auto newton = nlohmann::json::parse(in)["newton"];
+    EXPECT_EQ(newton["friction_iterations"], k);
+    if (k == 1) {
+      EXPECT_EQ(newton["friction_relags"], 0);
+    } else {
+      EXPECT_GE(newton["friction_relags"].get<int>(), 1);
+      EXPECT_LE(newton["friction_relags"].get<int>(), 2 * 5);  // at most k - 1 per step
+    }
+  }
+}
+
 TEST_F(CliSimulate, BadInputGivesOneLineErrors) {
   const std::string config = write_config("ball.yaml", kTinyBall);
   std::ofstream(path("few.csv")) << "Y,nu,rho,alpha\n1e10,0.3,2500,1\n";
