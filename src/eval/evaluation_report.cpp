@@ -193,6 +193,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       {"time_step_s", ev.time_step},
       {"attack_time_step_s", ev.attack_time_step},
       {"kappa", ev.kappa},
+      {"friction_iterations", scene.friction_iterations},
       {"moments", {{"reference", moments_json(ev.reference_moments)},
                    {"adversarial", moments_json(ev.adversarial_moments)}}},
       {"rigid", {{"simulator", "Bullet (double precision), semi-implicit Euler"},
@@ -232,7 +233,12 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
   write_file_atomically(dir + "/summary.md", [&](std::ostream& out) {
     out << "# " << scene.name << ": rigid and deformable, reference and adversarial\n\n"
         << "Duration " << fmt(ev.duration) << " s, step " << fmt(ev.time_step) << " s (attack built at "
-        << fmt(ev.attack_time_step) << " s). Rigid: Bullet ("
+        << fmt(ev.attack_time_step) << " s)"
+        << (scene.friction_iterations > 1
+                ? ", deformable friction re-lagged up to " + std::to_string(scene.friction_iterations) +
+                      " times per step (contact.friction_iterations)"
+                : std::string())
+        << ". Rigid: Bullet ("
         << ev.rigid_shape << "), internal step " << fmt(ev.rigid_internal_step)
         << " s, the scene's Coulomb friction per contact (";
     for (size_t i = 0; i < ev.rigid_friction.size(); ++i) {

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -168,8 +169,23 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
     EXPECT_EQ(friction[0]["kind"], "plane");
     EXPECT_EQ(friction[0]["plane"], 0);
     EXPECT_DOUBLE_EQ(friction[0]["friction"].get<double>(), mu);
+    EXPECT_EQ(report["friction_iterations"], 1);
     std::filesystem::remove_all(dir);
   }
+  // Friction re-lagged within each step (contact.friction_iterations): the same Coulomb on a
+  // steady slide, and both reports say how the deformable runs lagged it.
+  Scene relagged = with("0.4", "");
+  relagged.friction_iterations = 3;
+  const Evaluation ev = evaluate(relagged, mesh, mesh, same, options);
+  EXPECT_NEAR(ev.deformable_reference.velocity.back().y(), 1.0 - 0.4 * 9.8 * 0.2, 0.03);
+  const std::string dir = ::testing::TempDir() + "/rbaa_eval_relag_" + std::to_string(::getpid());
+  write_evaluation(ev, relagged, dir);
+  std::ifstream in(dir + "/report.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["friction_iterations"], 3);
+  std::ifstream md(dir + "/summary.md");
+  const std::string summary((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(summary.find("deformable friction re-lagged up to 3 times per step"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
