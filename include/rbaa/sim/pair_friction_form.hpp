@@ -45,17 +45,19 @@
 
 namespace rbaa {
 
-/// One pair lagged from q_n, for tests and reports.
+/// One lagged pair, for tests and reports. "At the lag": at q_n after lag(), at the step's
+/// solution after relag(); x~ is lag()'s either way.
 struct LaggedFrictionPair {
-  ContactPairPoints points;      ///< at q_n, with the simulator vertices (-1: obstacle point)
-  int type = 0;                  ///< the distance type at q_n (PointTriangle or EdgeEdge, as int)
+  ContactPairPoints points;      ///< at the lag, with the simulator vertices (-1: obstacle point)
+  int type = 0;                  ///< the lag's distance type (PointTriangle or EdgeEdge, as int)
   int mesh = -1;                 ///< obstacle mesh index, or -1 between two bodies
   int body_a = -1, body_b = -1;  ///< body ids of the two primitives (between bodies)
   double mu = 0;                 ///< the pair's coefficient
-  double normal_force = 0;       ///< lambda = -kappa m b'(d) at q_n (N per unit of the step weight)
+  double normal_force = 0;       ///< lambda = -kappa m b'(d) at the lag (N per unit step weight)
   /// Gamma: rows 3i..3i+2 are gamma_i T.
   Eigen::Matrix<double, 12, 2> gamma_basis = Eigen::Matrix<double, 12, 2>::Zero();
-  contact::Vector12d x_tilde = contact::Vector12d::Zero();  ///< x~ per point (fixed: the point)
+  /// x~ per point: a0 q_n + a1 q_{n-1} for a body's vertex, the point itself on an obstacle
+  contact::Vector12d x_tilde = contact::Vector12d::Zero();
 };
 
 class PairFrictionForm : public Form {
