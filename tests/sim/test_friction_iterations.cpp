@@ -37,11 +37,13 @@ struct Landing {
   int free_flight_relags = 0;  // summed over the steps before it
   int free_flight_newton = 0;  // Newton iterations summed over the steps before it
   std::string intersection;
+  ContactResolvingStats resolving;
 };
 
-SimulationSettings floor_settings(bool on_mesh, int friction_iterations) {
+SimulationSettings floor_settings(bool on_mesh, int friction_iterations, int substeps = 0) {
   SimulationSettings s;
   s.time_step = kH;
+  s.contact_substeps = substeps;
   s.num_steps = 6;
   s.d_hat = kDhat;
   s.kappa = 1e5;
@@ -64,9 +66,9 @@ TetMesh box() {
   return test::lifted(test::box_mesh(2, 2, 2, 0.05, Eigen::Vector3d(0.3, -0.3, 0)), 6.5e-3);
 }
 
-Landing land(bool on_mesh, int friction_iterations) {
+Landing land(bool on_mesh, int friction_iterations, int substeps = 0) {
   const TetMesh mesh = box();
-  const SimulationSettings s = floor_settings(on_mesh, friction_iterations);
+  const SimulationSettings s = floor_settings(on_mesh, friction_iterations, substeps);
   Simulator sim(mesh, MaterialField::uniform(mesh.num_tets(), 1e8, 0.3, 1000), s);
   const Eigen::VectorXd q0 = test::positions(mesh);
   const Trajectory t = sim.run(
@@ -75,6 +77,7 @@ Landing land(bool on_mesh, int friction_iterations) {
   r.intersection = test::first_intersection(mesh, s, t);
   const Eigen::VectorXd& m = sim.vertex_masses();
   r.final_q = t.q.back();
+  r.resolving = t.resolving;
   for (int k = 0; k < t.num_steps(); ++k) {
     if (t.steps[k].min_distance >= kDhat) {
       r.free_flight_relags += t.steps[k].friction_relags;
@@ -137,6 +140,31 @@ TEST_P(FrictionIterations, ReLagsStopAtTheBoundOrAtConvergence) {
   EXPECT_EQ(hundred.relags, twenty.relags);
   EXPECT_EQ(hundred.newton, twenty.newton);
   EXPECT_EQ((hundred.final_q - twenty.final_q).lpNorm<Eigen::Infinity>(), 0.0);
+}
+
+// With contact-resolving steps (SimulationSettings::contact_substeps) the landing is taken at
+// h / 8, the steps before it halved as their ballistic guesses meet the floor (16 steps shorter
+// than h); the sub-step that lands re-lags as a whole step does (its own q_n, variable-step BDF
+// weights and predictor), and Coulomb holds in it.
+TEST_P(FrictionIterations, ReLaggingWorksWithinContactResolvingSteps) {
+  const bool on_mesh = GetParam();
+  const Landing once = land(on_mesh, 1, 8), relagged = land(on_mesh, 20, 8);
+  std::printf("%s floor, h / 8 sub-steps, landing step %d: friction / normal force lagged once "
+              "%.3e, re-lagged %.6f (F_n %.4g N, %d re-lags); %d rejected, %d refined steps\n",
+              on_mesh ? "mesh" : "plane", relagged.step, once.ratio, relagged.ratio,
+              relagged.normal_force, relagged.relags, relagged.resolving.rejected_steps,
+              relagged.resolving.refined_steps);
+  ASSERT_GT(relagged.step, 2);  // sub-steps before it
+  ASSERT_EQ(once.step, relagged.step);
+  EXPECT_GT(relagged.resolving.refined_steps, 0);
+  EXPECT_GT(once.normal_force, 1.0);
+  EXPECT_LT(std::abs(once.ratio), 1e-9);
+  EXPECT_GE(relagged.relags, 1);
+  EXPECT_NEAR(relagged.ratio, kMu, 1e-4 * kMu);
+  EXPECT_EQ(relagged.free_flight_relags, 0);
+  EXPECT_EQ(relagged.free_flight_newton, once.free_flight_newton);
+  EXPECT_EQ(once.intersection, "");
+  EXPECT_EQ(relagged.intersection, "");
 }
 
 INSTANTIATE_TEST_SUITE_P(Floors, FrictionIterations, ::testing::Values(false, true),
