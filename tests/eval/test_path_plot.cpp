@@ -4,10 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "io/io_test_support.hpp"
 #include "rbaa/eval/path_plot.hpp"
 #include "rbaa/scene/scene.hpp"
 
@@ -79,6 +81,32 @@ TEST(PathPlot, TimeViewWritesTimesAndTheHorizontalPlanes) {
     EXPECT_EQ(z, bouncing.points(i, 2));
   }
   std::filesystem::remove_all(dir);
+}
+
+// The legend goes inside the canvas, into the corner whose box (0.4 of the width by 0.3 of the
+// height) holds the fewest drawn points; among equally empty corners the first of top right
+// (gnuplot's own default), top left, bottom right, bottom left.
+TEST(PathPlot, TheLegendTakesTheFirstCornerThePathsLeaveEmpty) {
+  const test::ScratchDir dir;
+  // The path (y, z(y)) in the yz-plane for y from 0 to 1.
+  auto key_of = [&](const std::string& name, const std::function<double(double)>& z) {
+    const PathSeries path =
+        sampled(name, [&](double t) { return Eigen::Vector3d(0, t / 1.5, z(t / 1.5)); });
+    write_path_plot(dir.file(name), name, {path}, {});
+    const std::string script = read(dir.file(name + ".gp"));
+    const size_t at = script.find("set key inside ");
+    EXPECT_NE(at, std::string::npos) << script;
+    const size_t end = script.find(" opaque", at);
+    return at == std::string::npos ? std::string() : script.substr(at + 15, end - at - 15);
+  };
+  // Bottom left and top right taken; top left and bottom right free.
+  EXPECT_EQ(key_of("rising", [](double y) { return y; }), "top left");
+  // Top left and bottom right taken; top right and bottom left free.
+  EXPECT_EQ(key_of("falling", [](double y) { return 1 - y; }), "top right");
+  // A V: both top corners taken, both bottom ones free.
+  EXPECT_EQ(key_of("vee", [](double y) { return 2 * std::abs(y - 0.5); }), "bottom right");
+  // A flat line through the middle of its canvas (widened to 4:3): every corner free.
+  EXPECT_EQ(key_of("flat", [](double y) { return 0.2 * y; }), "top right");
 }
 
 // A closed unit cube [0, 1]^3 as 12 triangles.
