@@ -81,6 +81,9 @@ class HessianFactorizer {
   int num_ldlt_fallbacks() const { return fallbacks_; }
   /// Wall time of the numeric factorisations so far (s).
   double factorization_seconds() const { return seconds_; }
+  /// Bytes CHOLMOD holds for this factoriser now (its common's count: the factor of the current
+  /// pattern and the workspace). A new pattern's analysis replaces the last one's factor.
+  std::size_t cholmod_bytes_in_use() const;
 
  private:
   struct Impl;
