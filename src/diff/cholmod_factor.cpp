@@ -110,6 +110,8 @@ int CholmodFactor::rows() const { return static_cast<int>(impl_->L->n); }
 
 std::size_t CholmodFactor::bytes() const { return bytes_of(impl_->L); }
 
+std::size_t CholmodFactor::cholmod_bytes_in_use() const { return impl_->common.c.memory_inuse; }
+
 std::size_t CholmodFactor::bytes_of(const cholmod_factor_struct* L) {
   if (L == nullptr) return 0;
   std::size_t b = L->n * (2 * sizeof(int));  // Perm, ColCount

@@ -52,6 +52,9 @@ class CholmodFactor {
   std::size_t bytes() const;
   /// What a copy of L would hold (0 for null): the memory one stored step costs.
   static std::size_t bytes_of(const cholmod_factor_struct* L);
+  /// Bytes CHOLMOD holds for this object now (its common's count): assign's fresh copy replaces
+  /// the factor it held.
+  std::size_t cholmod_bytes_in_use() const;
   int rows() const;
 
  private:

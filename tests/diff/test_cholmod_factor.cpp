@@ -1,16 +1,18 @@
-// HessianFactorizer (cholmod_factor.hpp): the backward pass's factoriser analyses a pattern once
-// per pattern_version and factorises numerically afterwards. Contact changes the pattern from step
-// to step, so a new version's analysis must replace the last one's factor, not add to it: over a
-// long attack the leak would be one factor per contact change.
+// The backward pass's CHOLMOD factors (cholmod_factor.hpp) over changing patterns. Contact changes
+// the Hessian's pattern from step to step, so a HessianFactorizer's analysis of a new version and
+// a CholmodFactor's fresh copy of a factor of another structure must replace what they held, not
+// add to it: over a long attack the leak would be one factor per contact change.
 
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCore>
 
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "rbaa/diff/cholmod_factor.hpp"
+#include "rbaa/sim/linear_solver.hpp"
 
 namespace rbaa {
 namespace {
@@ -57,6 +59,33 @@ TEST(HessianFactorizer, ANewPatternsAnalysisReplacesTheLastFactor) {
   f.factorize(coupled, version);
   EXPECT_EQ(f.cholmod_bytes_in_use(), bytes[5]);
   EXPECT_EQ(f.num_factorizations(), 7);
+}
+
+// A stored step's factor (the forward pass keeps one per step and refills it with assign): a
+// factor of another structure is copied afresh, and the old copy goes.
+TEST(CholmodFactor, AssigningAnotherStructureReplacesTheCopy) {
+  const int n = 400;
+  LinearSolver banded, coupled;
+  ASSERT_TRUE(banded.factorize(spd(n, false), 1));
+  ASSERT_TRUE(coupled.factorize(spd(n, true), 1));
+  ASSERT_FALSE(same_cholmod_structure(banded.cholmod_factor(), coupled.cholmod_factor()));
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+  std::unique_ptr<CholmodFactor> f = CholmodFactor::copy_of(banded.cholmod_factor());
+  std::vector<std::size_t> bytes = {f->cholmod_bytes_in_use()};
+  for (int round = 0; round < 2; ++round) {
+    for (const LinearSolver* s : {&coupled, &banded}) {
+      f->assign(s->cholmod_factor());
+      EXPECT_LT((f->solve(b) - s->solve(b)).norm(), 1e-14 * s->solve(b).norm());
+      bytes.push_back(f->cholmod_bytes_in_use());
+    }
+  }
+  std::printf("CHOLMOD bytes in use after each copy:");
+  for (std::size_t k : bytes) std::printf(" %zu", k);
+  std::printf("\n");
+  EXPECT_GT(bytes[1], bytes[0]);
+  EXPECT_EQ(bytes[2], bytes[0]);
+  EXPECT_EQ(bytes[3], bytes[1]);
+  EXPECT_EQ(bytes[4], bytes[0]);
 }
 
 }  // namespace
