@@ -95,6 +95,19 @@ TEST(MaterialSections, DataCarriesEachElementsValueAndThePictureIsDrawn) {
     script << gp.rdbuf();
     EXPECT_NE(script.str().find("title 'the test''s ball' noenhanced"), std::string::npos)
         << script.str();
+    // Each field's three cuts are drawn in their own planes' axes: x = c in (y, z), y = c in
+    // (x, z), z = c in (x, y).
+    auto count = [&](const std::string& what) {
+      int n = 0;
+      for (size_t at = script.str().find(what); at != std::string::npos;
+           at = script.str().find(what, at + 1)) {
+        ++n;
+      }
+      return n;
+    };
+    EXPECT_EQ(count("set xlabel 'y (m)'\nset ylabel 'z (m)'"), 3) << script.str();
+    EXPECT_EQ(count("set xlabel 'x (m)'\nset ylabel 'z (m)'"), 3) << script.str();
+    EXPECT_EQ(count("set xlabel 'x (m)'\nset ylabel 'y (m)'"), 3) << script.str();
   }
   if (std::system("command -v gnuplot >/dev/null 2>&1") == 0) {
     EXPECT_EQ(png, dir + "/materials.png");
