@@ -164,9 +164,7 @@ void HessianFactorizer::factorize(const Eigen::SparseMatrix<double>& A,
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::size_t HessianFactorizer::cholmod_bytes_in_use() const {
-  return impl_->common.c.memory_inuse;
-}
+std::size_t HessianFactorizer::cholmod_bytes_in_use() const { return impl_->common.c.memory_inuse; }
 
 Eigen::VectorXd HessianFactorizer::solve(const Eigen::VectorXd& b) const {
   if (factorizations_ == 0) throw SolverError("adjoint: solve before any factorisation");
