@@ -1,0 +1,134 @@
+#!/usr/bin/env bash
+# The five demonstrations from scratch (README, "Demonstrations"): each adversarial object made by
+# its config's attack, then judged by `rbaa evaluate` on its demonstration scene (reference,
+# adversarial and soft control, rigid and deformable: summary.md's outcome table) and exported for
+# PolyFEM, and the five outcome tables gathered into one (scripts/outcome_table.py) in
+# OUT/outcomes.md. The cube stack's cubes are meshed at 1500 tets (RBAA_STACK_TETS; the config's
+# 10164 take ~50 min per deformable run). Measured 2026-11-28 on two shared cores, two at a time:
+# ball 34 min, bat 43 min, bunny ~30 min, cube and star under a minute; the evaluations 2 - 20 min.
+# A demonstration whose command fails is reported and left out of the table; the script then exits
+# 1. Attacks resume from their checkpoints when run again.
+#
+#   bash scripts/demonstrations.sh [--out=DIR] [--jobs=N] [--only=hoop,bin,stack,star,bat] [--dry-run]
+#
+# --out: where everything goes (default out/demos); --jobs: demonstrations run side by side
+# (default 2, each on one thread); --only: a subset; --dry-run: print each demonstration's
+# commands, one per line after its name, and run nothing. RBAA: the binary (default
+# build/src/rbaa).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+
+OUT=out/demos
+JOBS=2
+ONLY=hoop,bin,stack,star,bat
+DRY=0
+for arg in "$@"; do
+  case "$arg" in
+    --out=*) OUT=${arg#--out=} ;;
+    --jobs=*) JOBS=${arg#--jobs=} ;;
+    --only=*) ONLY=${arg#--only=} ;;
+    --dry-run) DRY=1 ;;
+    *) echo "demonstrations.sh: unknown argument '$arg' (see the script's head)" >&2; exit 2 ;;
+  esac
+done
+if ! [[ "$JOBS" =~ ^[1-9][0-9]*$ ]]; then
+  echo "demonstrations.sh: --jobs=$JOBS must be a whole number of at least 1" >&2
+  exit 2
+fi
+case "$OUT" in
+  *[[:space:]]*) echo "demonstrations.sh: --out='$OUT' holds a space; choose a folder without" >&2
+                 exit 2 ;;
+esac
+RBAA=${RBAA:-build/src/rbaa}
+TETS=${RBAA_STACK_TETS:-1500}
+
+# Each demonstration's commands, one per line: attack, evaluate, export.
+commands() {
+  local O=$OUT
+  case "$1" in
+    hoop)
+      echo "$RBAA attack --config=configs/ball_accurate.yaml --out=$O/ball_accurate"
+      echo "$RBAA evaluate --config=configs/demos/ball_hoop.yaml --adversarial=$O/ball_accurate/adversarial.msh --out=$O/hoop"
+      echo "$RBAA export --format=polyfem --config=configs/demos/ball_hoop.yaml --adversarial=$O/ball_accurate/adversarial.msh --out=$O/polyfem_hoop" ;;
+    bin)
+      echo "$RBAA attack --config=configs/bunny_accurate.yaml --out=$O/bunny_accurate"
+      echo "$RBAA evaluate --config=configs/demos/bunny_bin.yaml --adversarial=$O/bunny_accurate/adversarial.msh --out=$O/bin"
+      echo "$RBAA export --format=polyfem --config=configs/demos/bunny_bin.yaml --adversarial=$O/bunny_accurate/adversarial.msh --out=$O/polyfem_bin" ;;
+    stack)
+      echo "$RBAA attack --config=configs/cube_strike.yaml --set=mesh.target_tets=$TETS --out=$O/cube"
+      echo "$RBAA evaluate --config=configs/demos/cube_stack.yaml --adversarial=$O/cube/adversarial.msh --set=mesh.target_tets=$TETS --out=$O/stack"
+      echo "$RBAA export --format=polyfem --config=configs/demos/cube_stack.yaml --adversarial=$O/cube/adversarial.msh --set=mesh.target_tets=$TETS --out=$O/polyfem_stack" ;;
+    star)
+      echo "$RBAA attack --config=configs/star.yaml --out=$O/star_attack"
+      echo "$RBAA evaluate --config=configs/demos/star.yaml --adversarial=$O/star_attack/adversarial.msh --out=$O/star"
+      echo "$RBAA export --format=polyfem --config=configs/demos/star.yaml --adversarial=$O/star_attack/adversarial.msh --out=$O/polyfem_star" ;;
+    bat)
+      echo "$RBAA attack --config=configs/bat_accurate.yaml --out=$O/bat_accurate"
+      echo "$RBAA evaluate --config=configs/demos/bat.yaml --adversarial=$O/bat_accurate/adversarial.msh --duration=0.5 --out=$O/bat"
+      echo "$RBAA export --format=polyfem --config=configs/demos/bat.yaml --adversarial=$O/bat_accurate/adversarial.msh --out=$O/polyfem_bat" ;;
+    *) return 1 ;;
+  esac
+}
+
+# Longest first, so that two at a time finish together.
+DEMOS=()
+IFS=, read -r -a asked <<< "$ONLY"
+for d in bat hoop bin stack star; do
+  for a in "${asked[@]}"; do [ "$a" = "$d" ] && DEMOS+=("$d") && break; done
+done
+for a in "${asked[@]}"; do
+  if ! commands "$a" > /dev/null; then
+    echo "demonstrations.sh: --only names '$a', not one of hoop, bin, stack, star, bat" >&2
+    exit 2
+  fi
+done
+
+if [ "$DRY" = 1 ]; then
+  for d in "${DEMOS[@]}"; do
+    echo "$d"
+    commands "$d"
+  done
+  exit 0
+fi
+
+if [ ! -x "$RBAA" ]; then
+  echo "demonstrations.sh: no rbaa binary at $RBAA (build first: bash scripts/build.sh)" >&2
+  exit 2
+fi
+mkdir -p "$OUT/logs"
+LOG=$OUT/times.log
+
+run_demo() {
+  local d=$1 step=0 line
+  while IFS= read -r line; do
+    step=$((step + 1))
+    local t0=$SECONDS
+    echo "[$(date +%T)] $d $step: $line" >> "$LOG"
+    if ! OMP_NUM_THREADS=1 $line > "$OUT/logs/$d.$step.log" 2>&1; then
+      echo "[$(date +%T)] $d $step FAILED after $((SECONDS - t0)) s (log: $OUT/logs/$d.$step.log)" | tee -a "$LOG" >&2
+      return 1
+    fi
+    echo "[$(date +%T)] $d $step done in $((SECONDS - t0)) s" >> "$LOG"
+  done < <(commands "$d")
+}
+
+declare -A pid_of
+for d in "${DEMOS[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n; done
+  echo "demonstrations.sh: $d (log: $LOG)" >&2
+  run_demo "$d" &
+  pid_of[$d]=$!
+done
+failed=0
+tables=()
+for d in "${DEMOS[@]}"; do
+  if wait "${pid_of[$d]}"; then
+    tables+=("$d=$OUT/$d")
+  else
+    failed=1
+  fi
+done
+if [ ${#tables[@]} -gt 0 ]; then
+  python3 scripts/outcome_table.py "${tables[@]}" > "$OUT/outcomes.md" && cat "$OUT/outcomes.md"
+fi
+exit $failed
