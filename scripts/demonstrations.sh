@@ -5,7 +5,8 @@
 # PolyFEM, and the five outcome tables gathered into one (scripts/outcome_table.py) in
 # OUT/outcomes.md. The cube stack's cubes are meshed at 1500 tets (RBAA_STACK_TETS; the config's
 # 10164 take ~50 min per deformable run). Measured 2026-11-28 on two shared cores, two at a time:
-# ball 34 min, bat 43 min, bunny ~30 min, cube and star under a minute; the evaluations 2 - 20 min.
+# 67 min in all; the attacks ball 34 min, bat 43, bunny 23, cube and star under a minute; the
+# evaluations 7 s (star) to 8 min (bin).
 # A demonstration whose command fails is reported and left out of the table; the script then exits
 # 1. Attacks resume from their checkpoints when run again.
 #
