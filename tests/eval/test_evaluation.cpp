@@ -366,6 +366,8 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     ASSERT_NE(at, std::string::npos) << summary;
     const double percent = std::stod(summary.substr(at + lead.size()));
     EXPECT_NEAR(percent, 100 * ev.baseline_disagreement, 1e-2 * 100 * ev.baseline_disagreement + 1e-12);
+    // And it names what it compared: the object, by that word when it has no other name.
+    EXPECT_NE(summary.find("Compared: the object's centre of mass."), std::string::npos) << summary;
   }
   // The adversarial object's materials picture (data and script always; PNG with gnuplot).
   EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial_materials.dat"));
