@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 #include <unistd.h>
 
@@ -355,12 +354,7 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
   // The summary's prose carries the same figures as report.json: the baseline's disagreement in
   // percent of its path.
   {
-    const std::string summary = [&] {
-      std::ifstream md(dir + "/summary.md");
-      std::stringstream ss;
-      ss << md.rdbuf();
-      return ss.str();
-    }();
+    const std::string summary = test::read_text(dir + "/summary.md");
     const std::string lead = "The baseline strays from the rigid reference by at most ";
     const std::size_t at = summary.find(lead);
     ASSERT_NE(at, std::string::npos) << summary;

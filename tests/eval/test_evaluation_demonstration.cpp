@@ -12,12 +12,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <utility>
 
+#include "io/io_test_support.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
 #include "rbaa/geometry/moments.hpp"
@@ -170,9 +170,7 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
     EXPECT_EQ(friction[0]["plane"], 0);
     EXPECT_DOUBLE_EQ(friction[0]["friction"].get<double>(), mu);
     EXPECT_EQ(report["friction_iterations"], 1);
-    std::ifstream md(dir + "/summary.md");
-    const std::string summary((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
-    EXPECT_EQ(summary.find("re-lagged"), std::string::npos);
+    EXPECT_EQ(test::read_text(dir + "/summary.md").find("re-lagged"), std::string::npos);
     std::filesystem::remove_all(dir);
   }
   // Friction re-lagged within each step (contact.friction_iterations): the same Coulomb on a
@@ -185,8 +183,7 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
   write_evaluation(ev, relagged, dir);
   std::ifstream in(dir + "/report.json");
   EXPECT_EQ(nlohmann::json::parse(in)["friction_iterations"], 2);
-  std::ifstream md(dir + "/summary.md");
-  const std::string summary((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  const std::string summary = test::read_text(dir + "/summary.md");
   EXPECT_NE(summary.find("deformable friction re-lagged up to 2 times per step"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
