@@ -153,7 +153,21 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   EXPECT_DOUBLE_EQ(report["refinement"]["com_gap"].get<double>(), c.com_gap);
   EXPECT_DOUBLE_EQ(report["refinement"]["gap"].get<double>(), c.gap);
   EXPECT_DOUBLE_EQ(report["refinement"]["time_step"].get<double>(), scene.time_step / 2);
+  EXPECT_DOUBLE_EQ(report["refinement"]["kept_fraction"].get<double>(), c.gap / c.gap_at_attack_step);
   EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial.vtu"));
+  std::filesystem::remove_all(dir);
+
+  // An object the attack left at the reference's trajectory (gap 0 at both steps) keeps a
+  // fraction 0 of its gap, a number: 0 / 0 would be written as null, which says "not measured".
+  AttackResult unmoved = r;
+  unmoved.refinement.gap_at_attack_step = 0;
+  unmoved.refinement.gap = 0;
+  write_attack_outputs(unmoved, scene, dir);
+  std::ifstream unmoved_in(dir + "/report.json");
+  const auto unmoved_report = nlohmann::json::parse(unmoved_in);
+  ASSERT_TRUE(unmoved_report["refinement"]["kept_fraction"].is_number())
+      << unmoved_report["refinement"].dump();
+  EXPECT_EQ(unmoved_report["refinement"]["kept_fraction"].get<double>(), 0.0);
   std::filesystem::remove_all(dir);
 }
 
