@@ -9,8 +9,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include <unistd.h>
-
 #include "io/io_test_support.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/eval/evaluation.hpp"
@@ -341,7 +339,8 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     EXPECT_LT(t->seconds, wall) << t->name;
   }
 
-  const std::string dir = ::testing::TempDir() + "/rbaa_eval_" + std::to_string(::getpid());
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   write_evaluation(ev, scene, dir);
   std::ifstream in(dir + "/report.json");
   const auto report = nlohmann::json::parse(in);
@@ -372,7 +371,6 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
                         "deformable_adversarial.csv", "deformable_soft_uniform.csv", "paths.gp"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   }
-  std::filesystem::remove_all(dir);
 
   // A step search whose disagreement did not fall with h (the bin's: 7.69, 4.70, 6.85 %): the
   // summary names the least and its step beside the finest one it keeps; one that fell does not.
@@ -389,7 +387,6 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     searched.baseline_disagreement = strays.back();
     write_evaluation(searched, scene, dir);
     const std::string summary = test::read_text(dir + "/summary.md");
-    std::filesystem::remove_all(dir);
     return summary;
   };
   const std::string rose = summary_of({0.0769, 0.0470, 0.0685});
@@ -437,7 +434,8 @@ TEST(Evaluation, EachRunHasARigidTwinCalibratedToItsOwnRebound) {
   // The soft control's twin is fitted to the soft run's rebound, not the baseline's.
   EXPECT_NE(ev.soft_own_twin.calibrations[0].deformable_rebound, ev.calibrations[0].deformable_rebound);
 
-  const std::string dir = ::testing::TempDir() + "/rbaa_own_twin_" + std::to_string(::getpid());
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   write_evaluation(ev, scene, dir);
   std::ifstream in(dir + "/report.json");
   const auto twins = nlohmann::json::parse(in)["own_calibrated_twins"];
@@ -446,7 +444,6 @@ TEST(Evaluation, EachRunHasARigidTwinCalibratedToItsOwnRebound) {
                    ev.soft_own_twin.calibrations[0].restitution);
   EXPECT_DOUBLE_EQ(twins["reference"]["vs_own_twin"]["max_com_gap_m"].get<double>(),
                    ev.deformable_vs_rigid.max_position_gap);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(Evaluation, RunsAtTheConfigsEvaluationStepAndTheFlagOverridesIt) {

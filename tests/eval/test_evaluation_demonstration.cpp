@@ -5,7 +5,6 @@
 // predicate needs no obstacle).
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -66,7 +65,8 @@ TEST(EvaluationDemonstration, EveryRunGetsItsPredicateAndFigureInTheReportAndSum
   EXPECT_EQ(ev.outcomes[4].object, "adversarial");
   EXPECT_LT((ev.deformable_adversarial.centre.front() - Eigen::Vector3d(0, 0, 1)).norm(), 1e-9);
 
-  const std::string dir = ::testing::TempDir() + "/rbaa_demo_" + std::to_string(::getpid());
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   write_evaluation(ev, scene, dir);
   std::ifstream in(dir + "/report.json");
   const auto report = nlohmann::json::parse(in);
@@ -159,7 +159,8 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
     EXPECT_NEAR(ev.rigid_reference.velocity.back().y(), expected, 0.03);
     EXPECT_NEAR(ev.deformable_reference.velocity.back().y(), expected, 0.03);
     // report.json's rigid.friction: every contact with its coefficient, named as the calibrations.
-    const std::string dir = ::testing::TempDir() + "/rbaa_eval_friction_" + std::to_string(::getpid());
+    const test::ScratchDir scratch;
+    const std::string dir = scratch.path().string();
     write_evaluation(ev, s, dir);
     std::ifstream in(dir + "/report.json");
     const auto report = nlohmann::json::parse(in);
@@ -171,7 +172,6 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
     EXPECT_DOUBLE_EQ(friction[0]["friction"].get<double>(), mu);
     EXPECT_EQ(report["friction_iterations"], 1);
     EXPECT_EQ(test::read_text(dir + "/summary.md").find("re-lagged"), std::string::npos);
-    std::filesystem::remove_all(dir);
   }
   // Friction re-lagged within each step (contact.friction_iterations): the same Coulomb on a
   // steady slide, and both reports say how the deformable runs lagged it.
@@ -179,13 +179,13 @@ TEST(EvaluationDemonstration, TheRigidTwinSlidesWithEachSurfacesOwnFriction) {
   relagged.friction_iterations = 2;
   const Evaluation ev = evaluate(relagged, mesh, mesh, same, options);
   EXPECT_NEAR(ev.deformable_reference.velocity.back().y(), 1.0 - 0.4 * 9.8 * 0.2, 0.03);
-  const std::string dir = ::testing::TempDir() + "/rbaa_eval_relag_" + std::to_string(::getpid());
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   write_evaluation(ev, relagged, dir);
   std::ifstream in(dir + "/report.json");
   EXPECT_EQ(nlohmann::json::parse(in)["friction_iterations"], 2);
   const std::string summary = test::read_text(dir + "/summary.md");
   EXPECT_NE(summary.find("deformable friction re-lagged up to 2 times per step"), std::string::npos);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -10,8 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include <unistd.h>
-
+#include "io/io_test_support.hpp"
 #include "rbaa/eval/material_sections.hpp"
 #include "rbaa/mesh/tetrahedralize.hpp"
 
@@ -67,8 +66,8 @@ TEST(MaterialSections, DataCarriesEachElementsValueAndThePictureIsDrawn) {
     m.Y[e] = std::pow(10.0, 9.5 + 2.0 * e / ball.num_tets());  // element index is readable back
     m.alpha[e] = 0.5 + 0.5 * (e % 2);
   }
-  const std::string dir = ::testing::TempDir() + "/rbaa_sections_" + std::to_string(::getpid());
-  std::filesystem::create_directories(dir);
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   const std::string png = write_material_sections(dir + "/materials", "the test's ball", ball, m, Eigen::Vector3d::Zero());
   // The first block is log10 Y on x = 0: every corner's value is its cut's element's log10 Y.
   const std::vector<SectionPolygon> cuts = section_polygons(ball, 0, 0.0);
@@ -113,7 +112,6 @@ TEST(MaterialSections, DataCarriesEachElementsValueAndThePictureIsDrawn) {
     EXPECT_EQ(png, dir + "/materials.png");
     EXPECT_GT(std::filesystem::file_size(png), 10000u);
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -11,8 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include <unistd.h>
-
+#include "io/io_test_support.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
@@ -88,7 +87,8 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   EXPECT_LE(m.rho.maxCoeff(), scene.rho_range.hi);
 
   // The files round-trip: the adversarial mesh read back has the reference's moments.
-  const std::string dir = ::testing::TempDir() + "/rbaa_attack_" + std::to_string(::getpid());
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   write_attack_outputs(r, scene, dir);
   const TetMeshFile adv = read_tet_mesh(dir + "/adversarial.msh");
   const MaterialField field = read_materials(dir + "/adversarial.msh", adv.mesh.num_tets());
@@ -155,7 +155,6 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   EXPECT_DOUBLE_EQ(report["refinement"]["time_step"].get<double>(), scene.time_step / 2);
   EXPECT_DOUBLE_EQ(report["refinement"]["kept_fraction"].get<double>(), c.gap / c.gap_at_attack_step);
   EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial.vtu"));
-  std::filesystem::remove_all(dir);
 
   // An object the attack left at the reference's trajectory (gap 0 at both steps) keeps a
   // fraction 0 of its gap, a number: 0 / 0 would be written as null, which says "not measured".
@@ -168,7 +167,6 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
   ASSERT_TRUE(unmoved_report["refinement"]["kept_fraction"].is_number())
       << unmoved_report["refinement"].dump();
   EXPECT_EQ(unmoved_report["refinement"]["kept_fraction"].get<double>(), 0.0);
-  std::filesystem::remove_all(dir);
 }
 
 // The polish stage: with the occupancy fixed after rounding, Adam on Y, nu, rho of the solid
@@ -177,9 +175,8 @@ TEST(Attack, RaisesTheGapWithMatchedMoments) {
 TEST(Attack, PolishWidensThePostProcessedGap) {
   Scene scene = parse_scene(kSmallScene, "small.yaml", "");
   scene.polish_iterations = 10;
-  const std::string dir = ::testing::TempDir() + "/rbaa_polish_" + std::to_string(::getpid());
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   AttackOptions options;
   options.out_dir = dir;
   const AttackResult r = run_attack(scene, options);
@@ -213,7 +210,6 @@ TEST(Attack, PolishWidensThePostProcessedGap) {
   EXPECT_EQ(report["polish"]["iterations"].get<int>(), 10);
   EXPECT_TRUE(report["polish"]["kept"].get<bool>());
   EXPECT_EQ(report["gap"]["post_processed"].get<double>(), r.gap_post_processed);
-  std::filesystem::remove_all(dir);
 }
 
 // attack.start: best_uniform (issue 20 item 3) simulates the attacked body uniform at Y, nu in
@@ -254,7 +250,8 @@ TEST(Attack, BestUniformStartPicksTheLargestGapOfItsCandidates) {
   EXPECT_EQ(r.start_Y, best.Y);
   EXPECT_EQ(r.start_nu, best.nu);
   EXPECT_NEAR(r.gap_initial, best.gap, 1e-12 * best.gap);
-  const std::string dir = ::testing::TempDir() + "/rbaa_best_uniform_" + std::to_string(::getpid());
+  const test::ScratchDir scratch;
+  const std::string dir = scratch.path().string();
   write_attack_outputs(r, scene, dir);
   std::ifstream in(dir + "/report.json");
   const auto report = nlohmann::json::parse(in);
@@ -262,7 +259,6 @@ TEST(Attack, BestUniformStartPicksTheLargestGapOfItsCandidates) {
   EXPECT_EQ(report["start"]["gap"].get<double>(), best.gap);
   EXPECT_EQ(report["start"]["Y"].get<double>(), best.Y);
   EXPECT_EQ(report["start"]["candidates"].size(), 9u);
-  std::filesystem::remove_all(dir);
 }
 
 // With best_uniform the attack never ends below its start: a learning rate that makes Adam
