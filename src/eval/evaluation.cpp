@@ -234,7 +234,8 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
 }
 
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
-                           double gravity_speed_per_step) {
+                           double gravity_speed_per_step,
+                           const std::function<bool(int)>& touches_plane) {
   // An impact changes the normal velocity by far more than gravity does in one step. A bounce of a
   // non-round body is often several impacts (it rocks onto another corner): the episode runs
   // through the impacts and on while the body still approaches the plane, as in the deformable
@@ -249,7 +250,7 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
   };
   for (int k = 0; k < n; ++k) {
     const double in = normal_velocity(k);
-    if (!(in < 0) || !impact(k)) continue;
+    if (!(in < 0) || !impact(k) || (touches_plane && !touches_plane(k))) continue;
     int last = k;
     auto goes_on = [&](int j) { return normal_velocity(j) < 0 || j <= last + 3; };
     const int end = impact_end(k, n, impact, [&](int j) { last = j; }, goes_on);
@@ -375,11 +376,23 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
   c.name = "plane " + std::to_string(plane);
   const double g_step = scene.gravity.norm() * scene.time_step;
   if (settings.plane_restitution.size() < scene.planes.size()) settings.plane_restitution.resize(scene.planes.size(), 1.0);
+  // The episode starts at an impact with this plane, Bullet's own contact (RigidTouch), not at a
+  // blow from another body or obstacle that the object then carries down onto the plane.
+  const RigidContactSide object{RigidContactSide::Kind::kBody, 0};
+  const RigidContactSide side{RigidContactSide::Kind::kPlane, plane};
   auto rebound = [&](double e) {
     settings.plane_restitution[plane] = e;
     ++c.iterations;
-    return rigid_first_rebound(simulate_rigid(mass, shape, scene, settings, duration, further),
-                               scene.planes[plane], g_step);
+    std::vector<RigidTouch> touches;
+    const auto states =
+        simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
+    std::vector<char> touched(states.front().size() + 1, 0);  // by sample
+    for (const RigidTouch& t : touches) {
+      if (t.first == object && t.second == side) touched.at(t.sample) = 1;
+    }
+    // Impact k changes the velocity from sample k to k + 1: the touches logged at sample k + 1.
+    return rigid_first_rebound(states.front(), scene.planes[plane], g_step,
+                               [&](int k) { return touched.at(k + 1) != 0; });
   };
   std::function<double(double)> twin_closeness;
   if (closeness) {

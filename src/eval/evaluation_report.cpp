@@ -245,9 +245,12 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       out << (i ? ", " : "") << ev.rigid_friction[i].name << " " << fmt(ev.rigid_friction[i].friction);
     }
     if (ev.rigid_friction.empty()) out << "nothing to touch";
+    const std::string compared = !scene.evaluation_body.empty() ? scene.evaluation_body
+                                 : scene.object_name;
     out << "). Compared: the "
-        << (scene.evaluation_body.empty() ? (scene.object_name == "object" ? std::string("object") : "body '" + scene.object_name + "'") : "body '" + scene.evaluation_body + "'")
-        << "'s centre of mass.\n\n"
+        << (compared == "object" ? std::string("object's centre of mass")
+                                 : "centre of mass of body '" + compared + "'")
+        << ".\n\n"
         << "Restitution per plane, obstacle mesh and pair of bodies, fitted to the deformable baseline's first "
            "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact's impulse; "
            "restitution in [0, 1], above 1 only for a rebound above 1; of several that fit, the one whose twin "
@@ -257,7 +260,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         << "|---|---|---|---|---|---|\n";
     for (const auto& c : ev.calibrations) {
       out << "| " << c.name << " | " << fmt(c.time) << " | " << fmt(c.deformable_rebound, 6) << " | "
-          << fmt(c.rigid_rebound, 6) << (c.calibrated ? "" : " (not fitted)") << " | " << fmt(c.restitution, 6) << " | ";
+          << (std::isnan(c.rigid_rebound) ? std::string("-") : fmt(c.rigid_rebound, 6))
+          << (c.calibrated ? "" : " (not fitted)") << " | " << fmt(c.restitution, 6) << " | ";
       for (double r : c.later_deformable_rebounds) out << fmt(r) << " ";
       out << "|\n";
     }

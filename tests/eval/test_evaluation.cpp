@@ -191,6 +191,72 @@ TEST(Evaluation, RigidReboundSpansTheCornersOfOneBounceAtAFineStep) {
   }
 }
 
+// A blow from something else starts no rebound off the plane: the normal velocity -4 m/s, then
+// -1 m/s after a blow at step 10 (another body's), then +0.75 m/s after the plane's own impact at
+// step 20. Told which impacts are the plane's, the rebound is 0.75 / 1; without, the episode
+// starts at the blow and gives 0.75 / 4.
+TEST(Evaluation, RigidReboundStartsAtAnImpactWithThePlaneItself) {
+  const Plane floor{Eigen::Vector3d::UnitZ(), 0.0};
+  std::vector<RigidState> states(30);
+  for (int k = 0; k < 30; ++k) {
+    states[k].time = 0.01 * k;
+    states[k].velocity = {0.3, 0, k <= 10 ? -4.0 : k <= 20 ? -1.0 : 0.75};
+  }
+  EXPECT_DOUBLE_EQ(rigid_first_rebound(states, floor, 0.0), 0.75 / 4);
+  EXPECT_DOUBLE_EQ(rigid_first_rebound(states, floor, 0.0, [](int k) { return k == 20; }), 0.75);
+  EXPECT_TRUE(std::isnan(rigid_first_rebound(states, floor, 0.0, [](int k) { return k == 5; })));
+}
+
+// The same through calibrate_restitution and Bullet: a ball dropped onto a 30 deg slope bounces
+// off it (its vertical velocity -2.7 -> +1.4 m/s) and lands on the floor 0.49 s later. The
+// floor's restitution is fitted to the floor's own rebound, not to the slope's, which no floor
+// restitution changes (measured: unfitted, the rebound off the slope 0.48 at every restitution).
+TEST(Evaluation, PlaneCalibrationFitsThePlanesOwnBounceAfterABlowFromAnother) {
+  const Scene scene = parse_scene(
+      "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
+      "object: {position: [0, 0, 1], velocity: [0, 0, 0]}\n"
+      "obstacles: {planes: [{normal: [0, 0, 1], offset: 0},\n"
+      "                     {normal: [0.5, 0, 0.8660254037844386], offset: 0.4330127018922193}]}\n"
+      "time: {step: 0.005, duration: 1.2}\n",
+      "slope_then_floor.yaml", "");
+  const TetMesh mesh = make_scene_mesh(scene);
+  const RigidMassProperties mass = rigid_mass_properties(compute_moments(mesh, scene.reference_rho));
+  const RigidShape shape = rigid_shape_from_surface(mesh);
+  const double target = 0.7, tolerance = 1e-3;
+  const RestitutionCalibration cal =
+      calibrate_restitution(mass, shape, scene, RigidSettings{}, scene.duration, 0, target, tolerance);
+  std::printf("slope then floor: floor restitution %.6f (calibrated %d) gives rebound %.6f\n",
+              cal.restitution, cal.calibrated, cal.rigid_rebound);
+  ASSERT_TRUE(cal.calibrated);
+  EXPECT_NEAR(cal.rigid_rebound, target, tolerance * target);
+  // The run itself: the slope first (moving +x, rising), then the floor, whose bounce is the fit.
+  RigidSettings settings;
+  settings.plane_restitution = {cal.restitution, 1.0};
+  const std::vector<RigidState> states = simulate_rigid(mass, shape, scene, settings, scene.duration);
+  int floor_impact = -1, first_rise = -1;
+  for (int k = 0; k + 1 < static_cast<int>(states.size()); ++k) {
+    if (first_rise < 0 && states[k + 1].velocity.z() > 0) first_rise = k;
+    if (states[k + 1].position.z() < 0.11 && states[k + 1].velocity.z() > 0 && floor_impact < 0 &&
+        states[k + 1].position.x() > 0.5) {
+      floor_impact = k;
+    }
+  }
+  ASSERT_GE(first_rise, 0);
+  ASSERT_GT(floor_impact, first_rise);
+  EXPECT_GT(states[first_rise].position.z(), 0.5);  // the slope's bounce, well above the floor
+  const double g_step = 9.8 * scene.time_step;
+  const double in = states[floor_impact].velocity.z(), out = states[floor_impact + 1].velocity.z();
+  EXPECT_NEAR(-out / in, target, tolerance * target + g_step / std::abs(in));
+  // A plane it never reaches has no rebound of its twin's: not fitted, restitution 1, NaN.
+  Scene far = scene;
+  far.planes[0].offset = -100;
+  const RestitutionCalibration never =
+      calibrate_restitution(mass, shape, far, RigidSettings{}, 0.2, 0, target, tolerance);
+  EXPECT_FALSE(never.calibrated);
+  EXPECT_EQ(never.restitution, 1.0);
+  EXPECT_TRUE(std::isnan(never.rigid_rebound)) << never.rigid_rebound;
+}
+
 // A rebound several restitutions give: off this tilted cube's corner, the rebound 0.4 at a 5 ms
 // step comes at two restitutions (measured: 0.381 and 0.513; between them the twin's rebound
 // jumps, as it meets a second corner within the bounce or not). Each is found and gives it;
@@ -361,6 +427,24 @@ TEST(Evaluation, RigidTwinsAgreeCalibrationHoldsAndOutputsRoundTrip) {
     EXPECT_NEAR(percent, 100 * ev.baseline_disagreement, 1e-2 * 100 * ev.baseline_disagreement + 1e-12);
     // And it names what it compared: the object, by that word when it has no other name.
     EXPECT_NE(summary.find("Compared: the object's centre of mass."), std::string::npos) << summary;
+  }
+  // Another name, and a contact the twin never met (its rigid rebound NaN): "body 'ball'", no
+  // stray possessive, and "-" where the rebound would be, not "nan" and not 0.
+  {
+    Scene named = scene;
+    named.object_name = "ball";
+    Evaluation unmet = ev;
+    unmet.calibrations[0].calibrated = false;
+    unmet.calibrations[0].restitution = 1.0;
+    unmet.calibrations[0].rigid_rebound = std::nan("");
+    write_evaluation(unmet, named, dir);
+    const std::string summary = test::read_text(dir + "/summary.md");
+    EXPECT_NE(summary.find("Compared: the centre of mass of body 'ball'."), std::string::npos) << summary;
+    EXPECT_EQ(summary.find("''s"), std::string::npos) << summary;
+    EXPECT_NE(summary.find(" | - (not fitted) | 1 |"), std::string::npos) << summary;
+    std::ifstream json(dir + "/report.json");
+    EXPECT_TRUE(nlohmann::json::parse(json)["calibration"][0]["rigid_first_rebound"].is_null());
+    write_evaluation(ev, scene, dir);  // back to the run's own outputs, read below
   }
   // The adversarial object's materials picture (data and script always; PNG with gnuplot).
   EXPECT_TRUE(std::filesystem::exists(dir + "/adversarial_materials.dat"));

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <functional>
+#include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -64,7 +65,9 @@ struct RestitutionCalibration {
   /// For a mesh or a pair: the same ratio of the relative velocity along the episode's contact
   /// normal (calibrate_contact_restitution).
   double deformable_rebound = 0;
-  double rigid_rebound = 0;       ///< the same ratio for the rigid reference, fitted
+  /// The same ratio for the rigid reference, fitted; NaN if its twin was not run to one (the twin
+  /// never met that contact, or the run's episode gave nothing to fit).
+  double rigid_rebound = std::numeric_limits<double>::quiet_NaN();
   double restitution = 1.0;       ///< the Bullet restitution that achieves it
   int iterations = 0;             ///< rigid runs the fit took
   /// Every restitution that gives the rebound (to the tolerance), ascending; `restitution` is one
@@ -241,8 +244,11 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
 /// within the episode). An episode runs from the first step whose change of normal velocity is
 /// an impact through the next impacts while the body still approaches the plane, as the
 /// deformable run's does (impact_end), or while the next impact is at most three steps away.
+/// With `touches_plane`, only an impact k (states k to k + 1) for which it is true starts one:
+/// in a scene with other bodies or obstacles a blow from them changes the normal velocity too.
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
-                           double gravity_speed_per_step);
+                           double gravity_speed_per_step,
+                           const std::function<bool(int)>& touches_plane = nullptr);
 
 /// Fits the restitution of an obstacle mesh (settings.mesh_restitution[episode.other]) or of a
 /// pair of bodies (an entry of settings.pair_restitution) to `episode` of the deformable `run`
