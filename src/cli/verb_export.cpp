@@ -14,7 +14,7 @@
 
 DECLARE_string(adversarial);
 DECLARE_string(out);  // here: the output directory
-DEFINE_string(format, "", "export format: polyfem (a scene for PolyFEM_bin -j DIR/scene.json)");
+DEFINE_string(format, "", "export format: polyfem (a scene for PolyFEM_bin -j scene.json, run in DIR)");
 
 namespace {
 
@@ -47,9 +47,10 @@ int run_export() {
   const rbaa::PolyfemExportResult r = rbaa::write_polyfem_scene(FLAGS_out, model);
   std::fprintf(stderr,
                "%zu bodies (%d tets), %zu planes as squares of half side %.4g m, %zu obstacle "
-               "meshes; run: PolyFEM_bin -j %s\n",
+               "meshes; run in that folder (its files are named relative to it): cd %s && "
+               "PolyFEM_bin -j scene.json\n",
                model.bodies.size(), model.mesh.num_tets(), model.planes.size(), r.plane_half_width,
-               model.obstacle_meshes.size(), r.json_file.c_str());
+               model.obstacle_meshes.size(), FLAGS_out.c_str());
   return 0;
 }
 
@@ -65,7 +66,7 @@ std::vector<std::string> flags() {
 RBAA_REGISTER_VERB(export, rbaa::cli::Verb{
     "export", "write a scene for another simulator (PolyFEM)",
     "rbaa export --format=polyfem --config=FILE [--adversarial=MESH.msh] [--set=...] --out=DIR\n\n"
-    "Writes DIR/scene.json for PolyFEM's command line (PolyFEM_bin -j DIR/scene.json) with:\n"
+    "Writes DIR/scene.json for PolyFEM's command line (in DIR: PolyFEM_bin -j scene.json) with:\n"
     "DIR/object.msh and DIR/body_<i>_<name>.msh, every body as a Gmsh 2.2 ASCII tet mesh placed\n"
     "at t = 0 (the object is the reference, or the --adversarial mesh with its void elements,\n"
     "alpha < attack.round_threshold, removed and its centre of mass moved to object.position,\n"

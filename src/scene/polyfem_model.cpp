@@ -121,6 +121,7 @@ PolyfemScene polyfem_model(const Scene& scene, const ExportObject& object) {
   s.gravity = scene.gravity;
   s.time_step = scene.time_step;
   s.duration = scene.duration;
+  s.num_steps = num_steps(scene);
   s.integrator = scene.integrator;
   s.mass = scene.mass;
   s.d_hat = scene.d_hat;

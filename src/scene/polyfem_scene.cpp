@@ -242,9 +242,12 @@ PolyfemExportResult write_polyfem_scene(const std::string& dir, const PolyfemSce
   // for every element.
   scene["materials"] = {
       {"type", "NeoHookean"}, {"E", "E.txt"}, {"nu", "nu.txt"}, {"rho", "rho.txt"}};
+  // rbaa runs round(T / h) steps (simulation_settings); PolyFEM, given tend and dt, would run
+  // ceil(T / h), one more whenever T / h lands just above a whole number (0.07 / 0.005 =
+  // 14.000000000000002). It takes exactly two of tend, dt and time_steps: dt and the count.
   scene["time"] = {
-      {"tend", s.duration},
       {"dt", s.time_step},
+      {"time_steps", s.num_steps},
       {"integrator", {{"type", "BDF"}, {"steps", s.integrator == Integrator::kBdf2 ? 2 : 1}}}};
   scene["contact"] = {{"enabled", true},
                       {"dhat", s.d_hat},

@@ -134,9 +134,10 @@ TetMesh place_centre_of_mass(const Scene& scene, TetMesh mesh, const Eigen::Vect
         << mesh.num_tets() << " tetrahedra";
     throw InputError(msg.str());
   }
-  // At uniform density the centre of mass is the centroid make_scene_mesh placed: leave the
-  // mesh untouched, so that uniform runs stay bit for bit what they were.
-  if (density.size() == 0 || (density.array() == density[0]).all()) return mesh;
+  // Uniform density is no shortcut: make_scene_mesh's centroid is where the rule below leaves a
+  // mesh alone, but a mesh read from a file (an exported object with its voids cut out) is
+  // wherever its file put it.
+  if (density.size() == 0) return mesh;
   const Moments moments = compute_moments(mesh, density);
   const Eigen::Vector3d shift = scene.position - moments.centre_of_mass();
   // An attack's object has the reference's moments to the re-fit's bar (normalised residual

@@ -83,10 +83,14 @@ Eigen::Matrix3d rotation(const Eigen::Vector3d& axis, double angle_deg) {
 
 }  // namespace
 
+int num_steps(const Scene& scene) {
+  return static_cast<int>(std::lround(scene.duration / scene.time_step));
+}
+
 SimulationSettings simulation_settings(const Scene& scene, double kappa) {
   SimulationSettings s;
   s.time_step = scene.time_step;
-  s.num_steps = static_cast<int>(std::lround(scene.duration / scene.time_step));
+  s.num_steps = num_steps(scene);
   s.integrator = scene.integrator;
   s.mass = scene.mass;
   s.gravity = scene.gravity;

@@ -11,6 +11,7 @@
 
 #include "cli/cli_fixture.hpp"
 #include "io/io_test_support.hpp"
+#include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/msh.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/io/triangle_soup.hpp"
@@ -85,7 +86,8 @@ TEST_F(Cli, ExportPolyfemBallFilesAgree) {
   EXPECT_EQ(scene["time"]["integrator"]["type"], "BDF");
   EXPECT_EQ(scene["time"]["integrator"]["steps"], 2);
   EXPECT_EQ(scene["time"]["dt"], 0.01);
-  EXPECT_EQ(scene["time"]["tend"], 0.25);
+  EXPECT_EQ(scene["time"]["time_steps"], 25);
+  EXPECT_FALSE(scene["time"].contains("tend"));  // PolyFEM takes exactly two of the three
   EXPECT_EQ(scene["contact"]["enabled"], true);
   EXPECT_EQ(scene["contact"]["dhat"], 1e-3);
   EXPECT_EQ(scene["contact"]["friction_coefficient"], 0.0);
@@ -102,6 +104,17 @@ TEST_F(Cli, ExportPolyfemBallFilesAgree) {
                       "--set=contact.friction_iterations=3 --out=" + relagged);
   ASSERT_EQ(r3.exit_code, 0) << r3.err;
   EXPECT_EQ(read_json(relagged + "/scene.json")["solver"]["contact"]["friction_iterations"], 3);
+
+  // PolyFEM runs as many steps as rbaa, round(T / h), where tend and dt would give ceil(T / h):
+  // 0.07 / 0.005 = 14.000000000000002, 14 steps in rbaa, 15 from ceil.
+  const std::string uneven = path("ball_uneven");
+  const auto r4 = run("export --format=polyfem " + kBall +
+                      "--set=time.step=0.005 --set=time.duration=0.07 --out=" + uneven);
+  ASSERT_EQ(r4.exit_code, 0) << r4.err;
+  ASSERT_GT(0.07 / 0.005, 14.0);
+  const nlohmann::json time = read_json(uneven + "/scene.json")["time"];
+  EXPECT_EQ(time["time_steps"], 14);
+  EXPECT_EQ(time["dt"], 0.005);
 }
 
 TEST_F(Cli, ExportPolyfemMeshRoundTrip) {
@@ -189,6 +202,32 @@ TEST_F(Cli, ExportPolyfemAdversarialDropsVoid) {
   const nlohmann::json scene = read_json(out + "/scene.json");
   EXPECT_EQ(scene["geometry"].size(), 1u);
   EXPECT_EQ(scene["boundary_conditions"]["rhs"], nlohmann::json({0.0, 0.0, 0.0}));
+  // The exported object's centre of mass (its own rho per element) is object.position.
+  const Eigen::Vector3d position(0.3, 0.2, 0.5);
+  const Eigen::Vector3d centre =
+      rbaa::compute_moments(exported, Eigen::Map<const Eigen::VectorXd>(rho.data(), rho.size()))
+          .centre_of_mass();
+  EXPECT_LE((centre - position).norm(), 1e-12) << centre.transpose();
+
+  // So is a uniform object's, whose kept elements have one density: its file puts it elsewhere
+  // (the cube's centroid is near 0.06 m), and nothing makes it the scene's mesh.
+  rbaa::ElementData uniform = data;
+  uniform["Y"].setConstant(1e10);
+  uniform["nu"].setConstant(0.3);
+  uniform["rho"].setConstant(2500);
+  uniform["alpha"].setOnes();
+  for (int e : void_elements) uniform["alpha"][e] = 0.0;
+  const std::string uniform_file = path("cube_uniform.msh");
+  rbaa::write_tet_mesh(uniform_file, cube, uniform);
+  const std::string uniform_out = path("adv_uniform");
+  const auto u = run("export --format=polyfem --config=" + config + " --adversarial=" +
+                     uniform_file + " --out=" + uniform_out);
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  const rbaa::TetMesh uniform_exported = rbaa::read_msh(uniform_out + "/object.msh").mesh;
+  ASSERT_EQ(uniform_exported.num_tets(), nt - 7);
+  const Eigen::Vector3d uniform_centre =
+      rbaa::compute_moments(uniform_exported, 2500.0).centre_of_mass();
+  EXPECT_LE((uniform_centre - position).norm(), 1e-12) << uniform_centre.transpose();
 }
 
 TEST_F(Cli, ExportPolyfemBadInput) {

@@ -35,6 +35,7 @@ struct PolyfemScene {
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< m/s^2
   double time_step = 0.01;                            ///< s
   double duration = 0.25;                             ///< s
+  int num_steps = 25;                                 ///< steps of time_step rbaa runs (num_steps)
   Integrator integrator = Integrator::kBdf2;
   MassModel mass = MassModel::kConsistent;
   double d_hat = 1e-3;           ///< m

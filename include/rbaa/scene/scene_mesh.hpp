@@ -33,9 +33,9 @@ TetMesh make_copy_mesh(const Scene& scene, const BodySpec& body, const TetMesh& 
 /// kg/m^3, rho alpha: element masses rho alpha V) is at scene.position, which is what
 /// object.position means. make_scene_mesh puts the volume centroid there, which is the centre of
 /// mass only at uniform density; runs of a given non-uniform material (a materials file, an
-/// adversarial .msh) call this. A uniform density, or a centre of mass already within 1e-10 of
-/// the radius of gyration of the position (an attack's moment-matched object), returns the mesh
-/// unchanged, bit for bit.
+/// adversarial .msh, an exported object's kept elements) call this. A centre of mass already
+/// within 1e-10 of the radius of gyration of the position (make_scene_mesh's at uniform density,
+/// an attack's moment-matched object) returns the mesh unchanged, bit for bit.
 /// Throws rbaa::InputError naming `source` if the moved object touches an obstacle.
 /// An attack's object as its file gives it, turned into `scene`'s pose when its attack config did
 /// not turn it and `scene` does (a demonstration that starts its object turned, such as the cube

@@ -12,6 +12,9 @@
 
 namespace rbaa {
 
+/// The steps of h a run of the scene takes: round(T / h) (T need not be a whole number of h).
+int num_steps(const Scene& scene);
+
 /// Settings of a scene: its h, steps = round(duration / h), integrator, mass model, gravity,
 /// planes, obstacle meshes, friction, d_hat and Newton settings, with the given (frozen) kappa.
 /// (The bodies' ranges come from the SceneWorld.)
