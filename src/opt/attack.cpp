@@ -173,7 +173,11 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
   if (po.fields.empty()) return;
   po.perturbation = 0;
   const SolidObject& solid = r.post.solid;
-  const DesignSpace design(solid.mesh, po);
+  // The fields the polish does not move (alpha, and any the attack left out) are the solid
+  // object's, not the design space's initial ones (a field left out of attack.fields, say rho,
+  // would otherwise come back uniform at reference_rho, undoing the re-fit).
+  DesignSpace design(solid.mesh, po);
+  design.hold_fixed_fields(solid.materials);
   const Eigen::VectorXd theta0 = design.to_theta(inside_bounds(solid.materials, design));
 
   // The solid object in the world (alone, or among the scene's other bodies), the design masked
@@ -184,6 +188,7 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
   for (int e = body.element_begin; e < body.element_end; ++e) mask[e] = 1;
   DesignSpace world_design(world.mesh, po, std::move(mask));
   world_design.hold_fixed_elements(world.materials);
+  world_design.hold_fixed_fields(world.materials);
   TrajectoryGradientFunction f(world.mesh, world.settings, world.q0, world.v0, world_design,
                                world.objective, options.storage);
   TetMesh centred = solid.mesh;
@@ -200,6 +205,10 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
   });
   AttackLoopOptions loop = attack_loop_options(scene, options, "polish_");
   loop.iterations = scene.polish_iterations;
+  // A polish checkpoint belongs to the solid object it started from. When the main loop moved on
+  // in this process (a resume that extends attack.iterations, or goes on after stopping early),
+  // the object is another: polish it from its start, not from the old object's checkpoint.
+  if (r.loop.progress.size() > static_cast<size_t>(r.loop.resumed_from)) loop.resume = false;
   stage("polishing Y, nu, rho of the solid object (" + std::to_string(loop.iterations) + " iterations, " +
         std::to_string(design.size()) + " design variables)");
   r.polish = run_attack_loop(design, moments, nullptr, term, theta0, loop);

@@ -212,6 +212,56 @@ TEST(Attack, PolishWidensThePostProcessedGap) {
   EXPECT_EQ(report["gap"]["post_processed"].get<double>(), r.gap_post_processed);
 }
 
+// A polish on an attack whose fields leave rho out (attack.fields: [Y, nu, alpha]): rho is then
+// the post-process's re-fit, and the polish starts from exactly that object, its first row's
+// trajectory term the post-processed object's, its moments matched throughout.
+TEST(Attack, PolishKeepsTheFieldsItDoesNotMove) {
+  Scene scene = parse_scene(kSmallScene, "small.yaml", "");
+  scene.fields = {"Y", "nu", "alpha"};
+  scene.iterations = 5;
+  scene.polish_iterations = 2;
+  const AttackResult r = run_attack(scene, {});
+  ASSERT_EQ(r.polish.progress.size(), 2u);
+  const MaterialField& m = r.post.solid.materials;
+  ASSERT_GT(m.rho.maxCoeff() - m.rho.minCoeff(), 1.0);  // the re-fit spread rho
+  std::printf("polish without rho: post-processed objective %.9e, polish's first %.9e\n",
+              r.objective_post_processed, r.polish.progress[0].trajectory_term);
+  EXPECT_NEAR(r.polish.progress[0].trajectory_term, r.objective_post_processed,
+              1e-6 * std::abs(r.objective_post_processed));
+  for (const ProgressRow& row : r.polish.progress) EXPECT_LT(row.max_moment_residual, 1e-9) << row.iteration;
+  EXPECT_LE(r.max_normalized_residual, 1e-10);
+}
+
+// A resumed attack that extends the main loop makes another solid object, so its polish starts
+// over on that object (its first row the new post-processed objective), not from the polish
+// checkpoint of the shorter run; a resume that adds nothing to the loop resumes the polish too.
+TEST(Attack, ResumingALongerLoopPolishesTheNewObject) {
+  Scene scene = parse_scene(kSmallScene, "small.yaml", "");
+  scene.iterations = 3;
+  scene.polish_iterations = 2;
+  const test::ScratchDir scratch;
+  AttackOptions options;
+  options.out_dir = scratch.path().string();
+  const AttackResult shorter = run_attack(scene, options);
+  ASSERT_EQ(shorter.polish.progress.size(), 2u);
+  options.resume = true;
+  const AttackResult same = run_attack(scene, options);
+  EXPECT_EQ(same.polish.resumed_from, 2);  // nothing new in the loop: the polish is the one saved
+  scene.iterations = 5;
+  const AttackResult longer = run_attack(scene, options);
+  ASSERT_EQ(longer.loop.resumed_from, 3);
+  ASSERT_EQ(longer.loop.progress.size(), 5u);
+  ASSERT_EQ(longer.polish.progress.size(), 2u);
+  EXPECT_EQ(longer.polish.resumed_from, 0);
+  std::printf("resumed to 5 iterations: post-processed objective %.9e (3 iterations: %.9e), "
+              "polish's first %.9e\n",
+              longer.objective_post_processed, shorter.objective_post_processed,
+              longer.polish.progress[0].trajectory_term);
+  EXPECT_NE(longer.objective_post_processed, shorter.objective_post_processed);
+  EXPECT_NEAR(longer.polish.progress[0].trajectory_term, longer.objective_post_processed,
+              1e-6 * std::abs(longer.objective_post_processed));
+}
+
 // attack.start: best_uniform (issue 20 item 3) simulates the attacked body uniform at Y, nu in
 // {lo, mid, hi}^2 and starts from the candidate with the largest gap; each candidate's gap is that
 // of an attack problem built with attack.Y0, nu0 at it (its unperturbed start), to round-off.
