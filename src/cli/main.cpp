@@ -5,6 +5,9 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -72,6 +75,26 @@ void merge_set_flags(std::vector<char*>& args, std::string& storage) {
   args.insert(args.begin() + static_cast<std::ptrdiff_t>(first), storage.data());
 }
 
+/// Why the flags given on the command line (or in a --flagfile) do not fit `verb`, or "": every
+/// rbaa flag given must be one the verb reads (gflags' flags are global, so another verb's flag
+/// would otherwise be accepted and ignored), and a number must be finite (gflags reads inf and
+/// nan as doubles). glog's and gflags' own flags (--v, --logtostderr, --flagfile) are not rbaa's.
+std::string unfit_flags(const rbaa::cli::Verb& verb) {
+  std::vector<gflags::CommandLineFlagInfo> all;
+  gflags::GetAllFlags(&all);
+  for (const auto& info : all) {
+    if (info.is_default || info.filename.find("cli/") == std::string::npos) continue;
+    if (std::find(verb.flags.begin(), verb.flags.end(), info.name) == verb.flags.end()) {
+      return "--" + info.name + " is not a flag of rbaa " + verb.name + " (rbaa " + verb.name +
+             " --help lists its flags)";
+    }
+    if (info.type == "double" && !std::isfinite(std::strtod(info.current_value.c_str(), nullptr))) {
+      return "--" + info.name + "=" + info.current_value + ": expected a finite number";
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,6 +137,10 @@ int main(int argc, char** argv) {
     if (help) {
       print_verb_help(verb);
       return 0;
+    }
+    if (const std::string unfit = unfit_flags(verb); !unfit.empty()) {
+      std::cerr << "rbaa " << verb_name << ": error: " << unfit << "\n";
+      return 2;
     }
     try {
       return verb.run();

@@ -36,6 +36,10 @@ std::string duration_text(double s) {
 int run_attack_verb() {
   if (FLAGS_out.empty()) throw rbaa::InputError("--out is required");
   rbaa::Scene scene = rbaa::cli::load_scene_from_flags();
+  if (FLAGS_iterations < -1) {
+    throw rbaa::InputError("--iterations=" + std::to_string(FLAGS_iterations) +
+                           ": expected a whole number >= 0 (-1: the config's attack.iterations)");
+  }
   if (FLAGS_iterations >= 0) scene.iterations = FLAGS_iterations;
   rbaa::AttackOptions options;
   options.out_dir = FLAGS_out;

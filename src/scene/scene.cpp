@@ -47,12 +47,22 @@ class ConfigOrigin {
     }
   }
 
+  // Records every node of a --set value, named by the config and `what` ("ball.yaml (--set
+  // time.step)"); its paths resolve from the config's folder, and it has no line of its own.
+  void add_command_line(const YAML::Node& node, const std::string& what) {
+    const std::size_t first = nodes_.size();
+    add(node, top_.file + " " + what, top_.folder);
+    for (std::size_t i = first; i < nodes_.size(); ++i) nodes_[i].second.command_line = true;
+  }
+
   const std::string& file_of(const YAML::Node& node) const { return where(node).file; }
   const std::string& folder_of(const YAML::Node& node) const { return where(node).folder; }
+  bool from_command_line(const YAML::Node& node) const { return where(node).command_line; }
 
  private:
   struct Where {
     std::string file, folder;
+    bool command_line = false;
   };
 
   const Where& where(const YAML::Node& node) const {
@@ -80,7 +90,17 @@ class MapReader {
 
   bool has(const std::string& key) {
     seen_.insert(key);
-    return node_ && node_.IsMap() && node_[key] && !node_[key].IsNull();
+    if (!node_ || !node_.IsMap() || !node_[key]) return false;
+    const YAML::Node n = node_[key];
+    // A key written with nothing after it (`step:`) is YAML's null: an error, not the default.
+    // (Nodes yaml-cpp makes up while reading have no line.)
+    if (n.IsNull() && n.Mark().line >= 0) {
+      for (const auto& kv : node_) {  // the key's line: an empty value's is the next token's
+        if (kv.first.Scalar() == key) fail(kv.first, key, "has no value");
+      }
+      fail(n, key, "has no value");
+    }
+    return !n.IsNull();
   }
 
   YAML::Node child(const std::string& key) {
@@ -91,7 +111,7 @@ class MapReader {
   [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& what) const {
     std::ostringstream msg;
     msg << source_->file_of(at);
-    if (at && at.Mark().line >= 0) msg << ":" << at.Mark().line + 1;
+    if (at && at.Mark().line >= 0 && !source_->from_command_line(at)) msg << ":" << at.Mark().line + 1;
     msg << ": ";
     if (!key.empty() || !prefix_.empty()) msg << "key '" << full(key) << "': ";
     msg << what;
@@ -203,8 +223,11 @@ class MapReader {
   std::set<std::string> seen_;
 };
 
+void check_keys(const YAML::Node& node, const std::string& source, const std::string& prefix,
+                bool lines = true);
+
 // Applies "a.b.c=value" to the document; the value is parsed as YAML (so lists work).
-void apply_override(YAML::Node& root, const std::string& assignment) {
+void apply_override(YAML::Node& root, const std::string& assignment, ConfigOrigin& origin) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
     throw InputError("--set: expected key.path=value, got '" + assignment + "'");
@@ -216,6 +239,11 @@ void apply_override(YAML::Node& root, const std::string& assignment) {
   } catch (const YAML::Exception& e) {
     throw InputError("--set " + path + ": cannot parse value: " + e.msg);
   }
+  // An empty value would read as YAML's null, which the reader takes for an absent key: the
+  // built-in default would then replace both the config's value and the one meant here.
+  if (!value || value.IsNull()) throw InputError("--set " + path + ": no value after '='");
+  check_keys(value, origin.file_of(YAML::Node()) + " (--set " + path + ")", path, false);
+  origin.add_command_line(value, "(--set " + path + ")");
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
@@ -234,6 +262,40 @@ void apply_override(YAML::Node& root, const std::string& assignment) {
   chain.back()[parts.back()] = value;
 }
 
+// Every key of every mapping in `node` a name, and none twice: yaml-cpp keeps both entries of a
+// repeated key and every read finds the first, so `time: {step: 0.01, step: 0.002}` (or a
+// second `time:` block) would silently lose the later value. `lines`: name the line (a --set
+// value has none of its own).
+void check_keys(const YAML::Node& node, const std::string& source, const std::string& prefix,
+                bool lines) {
+  auto where = [&](const YAML::Node& at) {
+    std::ostringstream msg;
+    msg << source;
+    if (lines && at.Mark().line >= 0) msg << ":" << at.Mark().line + 1;
+    return msg.str();
+  };
+  if (node.IsMap()) {
+    std::set<std::string> names;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) {
+        throw InputError(where(kv.first) + ": " + (prefix.empty() ? "" : "under '" + prefix + "': ") +
+                         "a key must be a name, not a list or mapping");
+      }
+      const std::string name = kv.first.Scalar();
+      const std::string full = prefix.empty() ? name : prefix + "." + name;
+      if (!names.insert(name).second) {
+        throw InputError(where(kv.first) + ": key '" + full +
+                         "' is given twice in this mapping (only one value can hold)");
+      }
+      check_keys(kv.second, source, full, lines);
+    }
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      check_keys(node[i], source, prefix + "[" + std::to_string(i) + "]", lines);
+    }
+  }
+}
+
 YAML::Node load_yaml(const std::string& text, const std::string& source) {
   YAML::Node root;
   try {
@@ -244,6 +306,7 @@ YAML::Node load_yaml(const std::string& text, const std::string& source) {
     throw InputError(msg.str());
   }
   if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  check_keys(root, source, "");
   return root;
 }
 
@@ -328,6 +391,18 @@ MeshSource read_mesh_source(const YAML::Node& node, const ConfigOrigin& source,
   mesh.radius = m.number("radius", 0, 0, inf, true);
   mesh.side = m.number("side", 0, 0, inf, true);
   mesh.volume = m.number("volume", 0, 0, inf, true);
+  // A size that the source does not use is an error, not ignored (a cube's radius, a file's
+  // target_tets).
+  const std::string what = !mesh.shape.empty()        ? "shape " + mesh.shape
+                           : !mesh.surface_file.empty() ? std::string("a surface")
+                                                        : std::string("a tet mesh file");
+  auto unused = [&](const char* name, bool given, bool used) {
+    if (given && !used) m.fail(m.child(name), name, std::string("does not apply to ") + what);
+  };
+  unused("radius", mesh.radius > 0, mesh.shape == "sphere");
+  unused("side", mesh.side > 0, mesh.shape == "cube");
+  unused("volume", mesh.volume > 0, !mesh.surface_file.empty());
+  unused("target_tets", mesh.target_tets > 0, mesh.mesh_file.empty());
   m.finish();
   return mesh;
 }
@@ -459,7 +534,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
   ConfigOrigin source(source_name, base_dir);
   std::vector<std::string> chain{source_name};
   YAML::Node root = with_base(load_yaml(yaml_text, source_name), source, chain);
-  for (const auto& o : overrides) apply_override(root, o);
+  for (const auto& o : overrides) apply_override(root, o, source);
 
   const double inf = std::numeric_limits<double>::infinity();
   Scene s;

@@ -104,6 +104,30 @@ TEST_F(Cli, BadInputGivesOneLineErrors) {
   expect_failure("frobnicate", "unknown verb 'frobnicate'");
 }
 
+// gflags' flags are global: another verb's flag would be accepted and ignored (an export given
+// --materials, an evaluate given --iterations), and inf or nan would pass as a double. Both are
+// one-line errors before the verb runs, also when they come from a --flagfile; the verb's own
+// flags and glog's (--v) are fine.
+TEST_F(Cli, AFlagTheVerbDoesNotReadOrANonFiniteNumberIsRefused) {
+  const std::string ball = "--config=" RBAA_SOURCE_DIR "/configs/ball.yaml --set=mesh.target_tets=300 ";
+  expect_failure("export --format=polyfem " + ball + "--materials=" + path("m.csv") + " --out=" + path("x"),
+                 "--materials is not a flag of rbaa export");
+  expect_failure("evaluate " + ball + "--adversarial=reference --iterations=3 --out=" + path("x"),
+                 "--iterations is not a flag of rbaa evaluate");
+  expect_failure("attack " + ball + "--progress=false --out=" + path("x"),
+                 "--progress is not a flag of rbaa attack");
+  std::ofstream(path("flags.txt")) << "--vtu_every=0\n";
+  expect_failure("export --format=polyfem " + ball + "--flagfile=" + path("flags.txt") + " --out=" + path("x"),
+                 "--vtu_every is not a flag of rbaa export");
+  expect_failure("evaluate " + ball + "--adversarial=reference --duration=inf --out=" + path("x"),
+                 "--duration=inf: expected a finite number");
+  expect_failure("evaluate " + ball + "--adversarial=reference --rigid_step=nan --out=" + path("x"),
+                 "--rigid_step=nan: expected a finite number");
+  expect_failure("attack " + ball + "--iterations=-5 --out=" + path("x"), "--iterations=-5");
+  const Result fine = run("export --format=polyfem " + ball + "--v=0 --out=" + path("fine"));
+  EXPECT_EQ(fine.exit_code, 0) << fine.err;
+}
+
 TEST_F(Cli, HelpListsVerbsAndFlags) {
   const Result overview = run("--help");
   EXPECT_EQ(overview.exit_code, 0);

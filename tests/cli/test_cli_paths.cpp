@@ -180,7 +180,7 @@ TEST_F(CliPaths, ACoarseStiffBallConvergesInItsContactStep) {
 TEST_F(CliPaths, MeshObstacleSceneAttacksAndEvaluates) {
   const std::string scene = "--config=" RBAA_SOURCE_DIR "/configs/ball_on_mesh.yaml --set=mesh.target_tets=300 ";
   const Result attack = run("attack " + scene + "--set=attack.polish_iterations=0 --iterations=1 "
-                            "--progress=false --out=" + path("att"));
+                            "--out=" + path("att"));
   ASSERT_EQ(attack.exit_code, 0) << attack.err;
   const Result eval = run("evaluate " + scene + "--adversarial=" + path("att/adversarial.msh") +
                           " --time_step=0.0025 --duration=0.5 --out=" + path("eval"));

@@ -195,6 +195,42 @@ TEST(Scene, EvaluationSettingsDefaultToTheAttacksAndCanBeSet) {
   EXPECT_EQ(searched.evaluation_max_refinements, 1);
 }
 
+// What YAML would read without complaint but rbaa would then lose: a key given twice (yaml-cpp
+// keeps both, every read finds the first), a key with no value (null, which reads as absent: the
+// built-in default), a key that is not a name, an empty --set value, and a size the mesh source
+// does not use. Each is a one-line error naming the file (and line, or the --set) and the key.
+TEST(Scene, InputThatWouldBeLostIsRefused) {
+  expect_error(std::string(kMinimal) + "time: {step: 0.01, duration: 0.5, step: 0.002}\n",
+               {"test.yaml:2", "'time.step'", "given twice"});
+  expect_error(std::string(kMinimal) + "time: {step: 0.01}\ngravity: off\ntime: {step: 0.002}\n",
+               {"test.yaml:4", "'time'", "given twice"});
+  expect_error(std::string(kMinimal) + "bodies:\n  - {name: a, name: b, mesh: {shape: cube}}\n",
+               {"test.yaml:3", "'bodies[0].name'", "given twice"});
+  expect_error(std::string(kMinimal) + "time: {? [a]: 1}\n", {"test.yaml:2", "under 'time'", "must be a name"});
+  expect_error(std::string(kMinimal) + "time:\n  step:\n  duration: 0.5\n",
+               {"test.yaml:3", "'time.step'", "has no value"});
+  expect_error(kMinimal, {"--set time.step", "no value"}, {"time.step="});
+  expect_error(kMinimal, {"test.yaml (--set time): key 'time.step'", "given twice"},
+               {"time={step: 1, step: 2}"});
+  // A --set value's error names the config and the --set, not a line of the config.
+  expect_error("\n" + std::string(kMinimal), {"test.yaml (--set time.step): key 'time.step'", "outside"},
+               {"time.step=-1"});
+  try {
+    parse_scene("\n" + std::string(kMinimal), "test.yaml", "", {"time.step=-1"});
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find("test.yaml:"), std::string::npos) << e.what();
+  }
+  expect_error("mesh: {shape: cube, radius: 0.5}\n", {"test.yaml:1", "'mesh.radius'", "does not apply to shape cube"});
+  expect_error("mesh: {shape: sphere, side: 0.5}\n", {"'mesh.side'", "does not apply to shape sphere"});
+  expect_error("mesh: {shape: star, volume: 1}\n", {"'mesh.volume'", "does not apply to shape star"});
+  expect_error("mesh: {file: cube.msh, target_tets: 500}\n", {"'mesh.target_tets'", "a tet mesh file"});
+  expect_error("mesh: {shape: cube}\nbodies:\n  - {name: b, mesh: {shape: cube, radius: 1}}\n",
+               {"'bodies[0].mesh.radius'", "does not apply"});
+  // What each source does use is still read.
+  EXPECT_EQ(parse_scene("mesh: {shape: sphere, radius: 0.2}\n", "test.yaml", "").mesh.radius, 0.2);
+  EXPECT_EQ(parse_scene("mesh: {shape: cube, side: 0.1, target_tets: 500}\n", "test.yaml", "").mesh.side, 0.1);
+}
+
 TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error(std::string(kMinimal) + "tiem:\n  step: 0.01\n", {"test.yaml:2", "'tiem'", "unknown key"});
   expect_error(std::string(kMinimal) + "time:\n  step: fast\n", {"test.yaml:3", "time.step", "expected a number"});
