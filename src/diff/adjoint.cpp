@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "rbaa/error.hpp"
+#include "start_history.hpp"
 
 namespace rbaa {
 
@@ -122,13 +123,11 @@ AdjointResult run_adjoint(Simulator& sim, const MaterialField& materials,
   }
 
   sim.set_next_step(sim.units_per_step());  // back to the scene's h
-  // The ballistic history: q_{-j} = q_0 - j h v_0 + (j h)^2 / 2 g.
+  // The start-up history: ballistic for free bodies, the drive's past for driven ones.
   result.dq0 = adj.at(0);
   result.dv0 = Eigen::VectorXd::Zero(ndof);
-  const double h = traj.time_step;
   for (int j = 1; j <= 3; ++j) {
-    result.dq0 += adj.at(-j);
-    result.dv0 -= (j * h) * adj.at(-j);
+    diff_detail::add_start_history_adjoint(sim, j, adj.at(-j), result.dq0, result.dv0);
   }
   // Driven vertices start where their drive says, at its velocity: not initial-state unknowns.
   for (int d : sim.driven_dofs()) result.dq0[d] = result.dv0[d] = 0.0;

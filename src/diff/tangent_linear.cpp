@@ -5,6 +5,7 @@
 
 #include "rbaa/diff/cholmod_factor.hpp"
 #include "rbaa/error.hpp"
+#include "start_history.hpp"
 
 namespace rbaa {
 
@@ -52,14 +53,13 @@ TangentResult tangent_linear(Simulator& sim, const MaterialField& materials,
   result.bounds.assign(nd, 0.0);
 
   // dq_k for k = -3 .. N, kept for the last (order + 1) positions only: dq[d][k + 3].
-  const double h = traj.time_step;
   std::vector<std::vector<Eigen::VectorXd>> dq(nd, std::vector<Eigen::VectorXd>(N + 4));
   for (std::size_t i = 0; i < nd; ++i) {
     const TangentDirection& d = directions[i];
     const Eigen::VectorXd dq0 = d.q0.size() ? d.q0 : Eigen::VectorXd::Zero(ndof);
     const Eigen::VectorXd dv0 = d.v0.size() ? d.v0 : Eigen::VectorXd::Zero(ndof);
     dq[i][3] = dq0;
-    for (int j = 1; j <= 3; ++j) dq[i][3 - j] = dq0 - (j * h) * dv0;
+    for (int j = 1; j <= 3; ++j) dq[i][3 - j] = diff_detail::start_history_tangent(sim, j, dq0, dv0);
     // Driven positions are prescribed: no direction moves them.
     for (int j = 0; j <= 3; ++j) {
       for (int dof : sim.driven_dofs()) dq[i][j][dof] = 0.0;

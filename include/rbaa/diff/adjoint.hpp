@@ -17,8 +17,10 @@
 // 3/alpha times element e's gradient (the alpha^3 term the paper's supplement omits). M depends on
 // m_e = rho_e alpha_e V_e only: dM/drho_e = alpha_e V_e dM/dm_e, dM/dalpha_e = rho_e V_e dM/dm_e.
 // The ballistic history q_{-k} = q_0 - k h v_0 + (k h)^2 / 2 g depends on the initial state only;
-// its adjoints end up in dC/dq_0 and dC/dv_0. The adjoint assumes G = 0: Newton's tolerance must
-// be tight (SPEC section 2).
+// its adjoints end up in dC/dq_0 and dC/dv_0. Every vertex of a driven body starts with its
+// drive's rigid past instead, q_{-k,i} = drive.position(q_{0,i}, -k h): there dC/dq_0 takes
+// R(angle(-k h))^T of the history's adjoint and dC/dv_0 is 0 (src/diff/start_history.hpp). The
+// adjoint assumes G = 0: Newton's tolerance must be tight (SPEC section 2).
 //
 // Driven (Dirichlet) vertices (Body::driven_vertices) follow a prescribed motion: their positions
 // depend on nothing the adjoint differentiates, and G = 0 holds at the free dofs only. qbar is
