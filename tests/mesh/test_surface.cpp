@@ -86,6 +86,25 @@ TEST_F(SurfaceFiles, InwardSurfaceIsReoriented) {
   EXPECT_NEAR(enclosed_volume(read_surface(write_off("inward.off", s))), 1.0, 1e-12);
 }
 
+// A point no face uses (here one before the cube's and one after) is no part of the surface: it
+// is dropped, the faces renumbered, and the cube meshed as without it (CGAL's mesher crashed on
+// such a point: a segmentation fault in `rbaa mesh --surface`).
+TEST_F(SurfaceFiles, PointsNoFaceUsesAreDropped) {
+  const SurfaceMesh cube = cube_surface(1.0);
+  SurfaceMesh stray;
+  stray.V.resize(cube.V.rows() + 2, 3);
+  stray.V.row(0) << 5, 5, 5;
+  stray.V.middleRows(1, cube.V.rows()) = cube.V;
+  stray.V.row(cube.V.rows() + 1) << -7, 0, 2;
+  stray.F = cube.F.array() + 1;
+  const std::string path = write_off("stray.off", stray);
+  const SurfaceMesh s = read_surface(path);
+  EXPECT_EQ(s.V.rows(), cube.V.rows());
+  EXPECT_NEAR(enclosed_volume(s), 1.0, 1e-12);
+  const TetMesh mesh = mesh_surface_file(path, 300, 2.0);
+  EXPECT_NEAR(tet_volumes(mesh).sum(), 2.0, 1e-9);
+}
+
 TEST_F(SurfaceFiles, UnreadableFile) { expect_error((dir_ / "missing.off").string(), "cannot open"); }
 
 TEST_F(SurfaceFiles, MalformedFile) {

@@ -15,8 +15,8 @@ struct SurfaceMesh {
 };
 
 /// Reads a closed surface (OFF, OBJ, STL, PLY) and checks it: readable, non-empty, manifold,
-/// closed, not self-intersecting; orients it outward. Throws rbaa::InputError naming the file and
-/// the fault.
+/// closed, not self-intersecting; drops points no face uses; orients it outward. Throws
+/// rbaa::InputError naming the file and the fault.
 SurfaceMesh read_surface(const std::string& path);
 
 /// The same checks on a surface already in memory (`source` names it in errors).
