@@ -73,7 +73,13 @@ TetMesh read_medit(const std::string& path) {
     if (!reader.has_word()) break;
     const std::string word(reader.read_word("a keyword"));
     const std::string keyword = lower(word);
-    if (keyword == "end") break;
+    if (keyword == "end") {
+      // Nothing may follow End: a second mesh or a cut-and-paste would be silently dropped.
+      do {
+        if (reader.has_word()) reader.fail("text after End");
+      } while (reader.next_line());
+      break;
+    }
     if (keyword == "meshversionformatted") {
       reader.read_int_anywhere("the mesh version");
       have_version = true;
@@ -86,7 +92,7 @@ TetMesh read_medit(const std::string& path) {
       if (have_vertices) reader.fail("second Vertices section");
       const long long n = reader.read_int_anywhere("the number of vertices");
       if (n < 0 || n > 2000000000LL) reader.fail("bad number of vertices " + std::to_string(n));
-      coords.reserve(3 * static_cast<std::size_t>(std::min<long long>(n, 100000000LL)));
+      coords.reserve(3 * static_cast<std::size_t>(std::min<long long>(n, 1 << 16)));  // no promise
       for (long long i = 0; i < n; ++i) {
         for (int c = 0; c < 3; ++c)
           coords.push_back(reader.read_double_anywhere("a vertex coordinate"));
@@ -111,7 +117,7 @@ TetMesh read_medit(const std::string& path) {
       have_tets = true;
     } else if (const int size = skipped_entry_size(keyword); size > 0) {
       const long long n = reader.read_int_anywhere("the number of " + word);
-      if (n < 0) reader.fail("negative count for " + word);
+      if (n < 0 || n > 2000000000LL) reader.fail("bad count " + std::to_string(n) + " for " + word);
       for (long long i = 0; i < n * size; ++i) reader.read_double_anywhere("a value of " + word);
     } else if (is_unsupported_volume(keyword)) {
       reader.fail(word + " are not supported; rbaa reads linear tetrahedra");

@@ -1,5 +1,6 @@
 #include "rbaa/io/msh.hpp"
 
+#include <algorithm>
 #include <array>
 #include <unordered_map>
 #include <unordered_set>
@@ -51,8 +52,19 @@ ElementKind classify_element(long long type, std::string* description) {
       *description = "pyramid";
       return ElementKind::kUnsupportedVolume;
     default:
-      return ElementKind::kSkipped;
+      break;
   }
+  // Points, lines, triangles, quadrangles and polygons of any order (GmshDefines.h: 1-3, 8-10,
+  // 15, 16, 20-28, 34, 36-70, 84-86) are skipped; anything else is a volume element (tetrahedra
+  // of order 5 and up are 71-75 and 79-83, hexahedra, prisms and pyramids of higher orders follow)
+  // or no Gmsh type at all, and dropping it could leave holes in the solid.
+  const bool lower_dimensional = (type >= 1 && type <= 3) || (type >= 8 && type <= 10) ||
+                                 type == 15 || type == 16 || (type >= 20 && type <= 28) ||
+                                 type == 34 || (type >= 36 && type <= 70) ||
+                                 (type >= 84 && type <= 86);
+  if (lower_dimensional) return ElementKind::kSkipped;
+  *description = "a volume element or no Gmsh type rbaa reads";
+  return ElementKind::kUnsupportedVolume;
 }
 
 std::string unquote(std::string_view s) {
@@ -207,10 +219,13 @@ class MshParser {
         reader_.fail("node blocks hold more nodes than the " + std::to_string(n) +
                      " announced on line " + std::to_string(count_line));
       }
-      std::vector<long long> tags(k);
+      // Grown as the tags are read, not sized by the count: a file claiming 2e9 nodes would
+      // otherwise ask for 16 GB before its missing lines are noticed.
+      std::vector<long long> tags;
+      tags.reserve(std::min(k, 1 << 16));
       for (int i = 0; i < k; ++i) {
         expect_entry_line("node tag", i, k, block_line, {"$Nodes", "nodes", n, done});
-        tags[i] = reader_.read_int("a node tag");
+        tags.push_back(reader_.read_int("a node tag"));
         reader_.expect_line_end("the node tag");
       }
       // Parametric nodes carry their coordinates on the entity (u; u v; u v w) after x y z.
@@ -372,8 +387,8 @@ class MshParser {
                      " components; rbaa reads scalar fields (1 component)");
       }
     }
-    data.element_tags.reserve(count);
-    data.values.reserve(count);
+    data.element_tags.reserve(std::min<long long>(count, 1 << 16));  // a count is no promise
+    data.values.reserve(std::min<long long>(count, 1 << 16));
     for (int i = 0; i < count; ++i) {
       expect_entry_line("element data value", i, count, count_line,
                         {"$ElementData", "values of '" + data.name + "'", count, i});
@@ -455,6 +470,10 @@ class MshParser {
         reader_.fail_at(data.line, "element data '" + data.name + "' has values for " +
                                        std::to_string(filled) + " of the " + std::to_string(nt) +
                                        " tetrahedra; it needs one per tetrahedron");
+      }
+      if (file.element_data.count(data.name)) {
+        reader_.fail_at(data.line, "element data '" + data.name +
+                                       "' is given a second time (one block per name)");
       }
       file.element_data[data.name] = std::move(values);
     }

@@ -1,5 +1,7 @@
 #include "rbaa/io/tetgen.hpp"
 
+#include <algorithm>
+#include <array>
 #include <vector>
 
 #include "rbaa/error.hpp"
@@ -36,7 +38,7 @@ NodeFile read_node_file(const std::string& path) {
   if (dim != 3) reader.fail("dimension " + std::to_string(dim) + ": rbaa reads 3D meshes only");
   if (markers != 0 && markers != 1) reader.fail("the boundary marker flag must be 0 or 1");
   NodeFile file;
-  file.coords.reserve(3 * static_cast<std::size_t>(n));
+  file.coords.reserve(3 * static_cast<std::size_t>(std::min(n, 1 << 16)));  // a count is no promise
   for (int i = 0; i < n; ++i) {
     if (!reader.next_line()) {
       reader.fail_end_of_file("point " + std::to_string(i + 1) + " of the " + std::to_string(n) +
@@ -94,8 +96,11 @@ TetMesh read_tetgen(const std::string& path) {
   }
   TetMesh mesh;
   mesh.V = Eigen::Map<const Vertices>(nodes.coords.data(), nv, 3);
-  mesh.T.resize(nt, 4);
+  // Grown as the tetrahedra are read (a header claiming 2e9 would otherwise ask for 32 GB first).
+  std::vector<std::array<int, 4>> tets;
+  tets.reserve(std::min(nt, 1 << 16));
   for (int e = 0; e < nt; ++e) {
+    tets.emplace_back();
     if (!reader.next_line()) {
       reader.fail_end_of_file("tetrahedron " + std::to_string(e + 1) + " of the " +
                               std::to_string(nt) + " announced on line " +
@@ -110,7 +115,7 @@ TetMesh read_tetgen(const std::string& path) {
                     " (the points of " + base + ".node)");
       }
       // Of quadratic tets, the first four nodes are the corners.
-      if (k < 4) mesh.T(e, k) = static_cast<int>(v);
+      if (k < 4) tets.back()[k] = static_cast<int>(v);
     }
     for (int a = 0; a < num_attributes; ++a) reader.read_double("a tetrahedron attribute");
     reader.expect_line_end("the tetrahedron's values (the header announces " +
@@ -120,6 +125,10 @@ TetMesh read_tetgen(const std::string& path) {
   if (reader.next_line()) {
     reader.fail("more tetrahedra than the " + std::to_string(nt) + " announced on line " +
                 std::to_string(header_line));
+  }
+  mesh.T.resize(nt, 4);
+  for (int e = 0; e < nt; ++e) {
+    for (int k = 0; k < 4; ++k) mesh.T(e, k) = tets[e][k];
   }
   // Tools writing .ele disagree on the sign convention; a consistently negative mesh is a
   // convention, a mixed one is an error left for validate_tet_mesh to report.

@@ -87,6 +87,7 @@ Soup read_off(const std::string& path) {
     x.y() = r.read_double("vertex y");
     x.z() = r.read_double("vertex z");
     if (!x.allFinite()) r.fail("vertex " + std::to_string(i) + " is not finite");
+    r.expect_line_end("vertex " + std::to_string(i) + " (x y z)");
     soup.points.push_back(x);
   }
   for (int f = 0; f < nf; ++f) {
@@ -105,6 +106,13 @@ Soup read_off(const std::string& path) {
       polygon.push_back(static_cast<int>(v));
     }
     fan(polygon, r.line(), soup);
+  }
+  // What follows the announced faces would be dropped without a word (a second body, say).
+  while (r.next_line()) {
+    if (r.has_word()) {
+      r.fail("more than the " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+             " faces the header announces");
+    }
   }
   return soup;
 }

@@ -73,6 +73,9 @@ TEST(Medit, MalformedFilesGiveFileAndLine) {
       {"hexahedra", head + "Hexahedra\n0\n", ":9:", "not supported"},
       {"two_dimensional", "MeshVersionFormatted 2\nDimension 2\n", ":2:", "3-dimensional"},
       {"no_tetrahedra", head + "End\n", ":9:", "no Tetrahedra"},
+      // Nothing may follow End; a skipped section's count is no promise (no overflow, no hang).
+      {"text_after_end", head + "Tetrahedra\n1\n1 2 3 4 0\nEnd\ngarbage here 12\n", ":13:", "text after End"},
+      {"huge_skipped_count", head + "Triangles 4611686018427387904\n", ":9:", "bad count"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
@@ -142,6 +145,10 @@ TEST(Tetgen, MalformedFilesGiveFileAndLine) {
       {"too_few_tets", node, "2 4 0\n1 1 2 3 4\n", ".ele:2:", "end of file"},
       {"non_numeric", node, "1 4 0\n1 1 2 three 4\n", ".ele:2:", "'three'"},
       {"nodes_per_tet", node, "1 5 0\n1 1 2 3 4 1\n", ".ele:1:", "4 or 10"},
+      // A header's count is no promise: 2e9 points or tets, one given, is a truncated file
+      // (before, 48 GB and 32 GB were asked for first: std::bad_alloc, no file named).
+      {"huge_point_count", "2000000000 3 0 0\n1 0 0 0\n", "", ".node:2:", "end of file"},
+      {"huge_tet_count", node, "2000000000 4 0\n1 1 2 3 4\n", ".ele:2:", "end of file"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);

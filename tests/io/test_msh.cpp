@@ -301,6 +301,14 @@ std::vector<MalformedCase> malformed_cases() {
       {"element_count_too_high", replace_line(v, 13, "3"), 16, "after 2 of the 3"},
       {"hexahedron", replace_line(v, 15, "2 5 2 1 1 1 2 3 4 5 1 2 3"), 15, "hexahedron"},
       {"quadratic_tet", replace_line(v, 15, "2 11 2 1 1 1 2 3 4 5 1 2 3 4 5"), 15, "higher-order"},
+      // A type Gmsh does not define, and an order-5 tetrahedron (Gmsh's 71), were dropped.
+      {"unknown_type", replace_line(v, 15, "2 999 2 1 1 2 3 4 5"), 15, "element type 999"},
+      {"order_5_tet", replace_line(v, 15, "2 71 2 1 1 2 3 4 5"), 15, "element type 71"},
+      // A second block of the same name replaced the first without a word.
+      {"data_name_twice", v + lines_between(v, 17, 28), 29, "'Y' is given a second time"},
+      // A node block's count is no promise: 2e9 nodes, one tag given (16 GB were asked for).
+      {"huge_node_block", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2000000000 1 2000000000\n"
+                          "3 1 0 2000000000\n1\n$EndNodes\n", 8, "of the 2000000000"},
       {"data_count_too_high", replace_line(v, 25, "3"), 28, "after 2 of the 3"},
       {"data_count_too_low", replace_line(replace_line(v, 27, ""), 25, "1"), 17,
        "values for 1 of the 2"},

@@ -80,6 +80,9 @@ TEST(SceneObstacleMeshes, BadInputIsOneLineNamingConfigFileAndLine) {
   write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
   write("empty.obj", "# nothing\n");
   write("short.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n");
+  // What follows the announced faces, or a vertex's x y z, was dropped without a word.
+  write("extra_face.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n");
+  write("vertex_junk.off", "OFF\n3 1 0\n0 0 0 junk\n1 0 0\n0 1 0\n3 0 1 2\n");
   struct Case {
     std::string entry;
     std::vector<std::string> fragments;
@@ -92,6 +95,8 @@ TEST(SceneObstacleMeshes, BadInputIsOneLineNamingConfigFileAndLine) {
       {"{file: flat.obj}", {"flat.obj:4:", "zero area"}},
       {"{file: empty.obj}", {"empty.obj: the file holds no triangles"}},
       {"{file: short.off}", {"short.off:4:", "unexpected end of file"}},
+      {"{file: extra_face.off}", {"extra_face.off:8:", "more than the 4 vertices and 1 faces"}},
+      {"{file: vertex_junk.off}", {"vertex_junk.off:3:", "vertex 0"}},
       {"{file: rect.obj, scal: 2}", {"test.yaml:5: key 'obstacles.meshes[0].scal': unknown key"}},
       {"{file: rect.obj, scale: -1}", {"obstacles.meshes[0].scale", "outside"}},
       {"{file: rect.obj, rotation: [0, 0, 1]}",
