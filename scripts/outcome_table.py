@@ -43,10 +43,12 @@ def rows_of(name, directory):
     try:
         with open(path) as f:
             report = json.load(f)
-    except (OSError, json.JSONDecodeError) as e:
+    except (OSError, ValueError) as e:  # ValueError: bad JSON, or bytes that are not UTF-8
         fail(f"{path}: {e}")
+    if not isinstance(report, dict):
+        fail(f"{path}: not an `rbaa evaluate` report (a JSON object)")
     outcomes = report.get("outcomes")
-    if not outcomes:
+    if not isinstance(outcomes, dict) or not outcomes:
         fail(f"{path}: no 'outcomes' (not a demonstration: its config has no 'demonstration' block)")
     runs = {}
     for i, r in enumerate(outcomes.get("runs") or []):
@@ -66,7 +68,7 @@ def rows_of(name, directory):
         cells = [cell(runs.get((simulator, o))) for o in OBJECTS]
         wall = sum(t for k, t in times.items() if k.startswith(simulator))
         extra = (f"twins {twins:.2g} m apart" if simulator == "rigid" and twins is not None
-                 else f"h = {step:.4g} s, baseline strays {100 * strays:.2g} %"
+                 else f"h = {step:.4g} s, baseline strays {100 * strays:.3g} %"
                  if simulator == "deformable" and step and strays is not None else "")
         out.append(f"| {name} | {what} | {simulator} | " + " | ".join(cells) +
                    f" | {extra} | {wall:.0f} |")
@@ -98,8 +100,11 @@ def main(argv):
         lines += rows_of(name, directory)
     text = "\n".join(lines) + "\n"
     if out_file:
-        with open(out_file, "w") as f:
-            f.write(text)
+        try:
+            with open(out_file, "w") as f:
+                f.write(text)
+        except OSError as e:
+            fail(f"--out={out_file}: {e.strerror}")
     else:
         sys.stdout.write(text)
     return 0

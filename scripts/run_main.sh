@@ -10,4 +10,4 @@ bash scripts/install_deps.sh
 bash scripts/build.sh
 OUT=${RBAA_OUT:-out/ball}
 mkdir -p "$OUT"
-./build/src/rbaa attack --config=configs/ball.yaml --out="$OUT" --resume "$@"
+"${RBAA_BUILD_DIR:-build}/src/rbaa" attack --config=configs/ball.yaml --out="$OUT" --resume "$@"

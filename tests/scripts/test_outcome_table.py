@@ -110,6 +110,28 @@ class OutcomeTable(unittest.TestCase):
         write_report(d, {"outcomes": {"predicate": "inside_box", "runs": [{"run": "rigid x"}]}})
         self.assert_one_line_error([f"odd={d}"], os.path.join(d, "report.json"), "simulator")
 
+    def test_a_report_that_is_no_object_or_no_text_is_named(self):
+        for name, content in (("list", b"[]"), ("null", b"null"), ("latin1", b"{\"a\": \"\xe9\"}")):
+            d = os.path.join(self.dir, name)
+            os.makedirs(d)
+            with open(os.path.join(d, "report.json"), "wb") as f:
+                f.write(content)
+            self.assert_one_line_error([f"x={d}"], os.path.join(d, "report.json"))
+
+    def test_an_out_file_that_cannot_be_written_is_named(self):
+        d = os.path.join(self.dir, "hoop")
+        write_report(d, {"outcomes": {"predicate": "through_hoop", "runs": []}})
+        target = os.path.join(self.dir, "no", "such", "table.md")
+        self.assert_one_line_error([f"hoop={d}", f"--out={target}"], target)
+
+    def test_a_baseline_that_strays_past_its_path_is_in_percent_not_powers_of_ten(self):
+        d = os.path.join(self.dir, "stack")
+        write_report(d, {"outcomes": {"predicate": "stands", "runs": []},
+                         "time_step_s": 0.001, "baseline_disagreement": 1.5})
+        code, out, err = run(f"stack={d}")
+        self.assertEqual(code, 0, err)
+        self.assertIn("baseline strays 150 %", out)
+
     def test_unknown_arguments_and_no_demonstrations_are_refused(self):
         self.assert_one_line_error(["--bogus"], "--bogus")
         self.assert_one_line_error([], "no demonstrations")
