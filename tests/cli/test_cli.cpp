@@ -110,20 +110,23 @@ TEST_F(Cli, BadInputGivesOneLineErrors) {
 // flags and glog's (--v) are fine.
 TEST_F(Cli, AFlagTheVerbDoesNotReadOrANonFiniteNumberIsRefused) {
   const std::string ball = "--config=" RBAA_SOURCE_DIR "/configs/ball.yaml --set=mesh.target_tets=300 ";
-  expect_failure("export --format=polyfem " + ball + "--materials=" + path("m.csv") + " --out=" + path("x"),
-                 "--materials is not a flag of rbaa export");
-  expect_failure("evaluate " + ball + "--adversarial=reference --iterations=3 --out=" + path("x"),
-                 "--iterations is not a flag of rbaa evaluate");
-  expect_failure("attack " + ball + "--progress=false --out=" + path("x"),
-                 "--progress is not a flag of rbaa attack");
+  const std::string out = " --out=" + path("x");
   std::ofstream(path("flags.txt")) << "--vtu_every=0\n";
-  expect_failure("export --format=polyfem " + ball + "--flagfile=" + path("flags.txt") + " --out=" + path("x"),
-                 "--vtu_every is not a flag of rbaa export");
-  expect_failure("evaluate " + ball + "--adversarial=reference --duration=inf --out=" + path("x"),
-                 "--duration=inf: expected a finite number");
-  expect_failure("evaluate " + ball + "--adversarial=reference --rigid_step=nan --out=" + path("x"),
-                 "--rigid_step=nan: expected a finite number");
-  expect_failure("attack " + ball + "--iterations=-5 --out=" + path("x"), "--iterations=-5");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"export --format=polyfem " + ball + "--materials=" + path("m.csv"),
+       "--materials is not a flag of rbaa export"},
+      {"evaluate " + ball + "--adversarial=reference --iterations=3",
+       "--iterations is not a flag of rbaa evaluate"},
+      {"attack " + ball + "--progress=false", "--progress is not a flag of rbaa attack"},
+      {"export --format=polyfem " + ball + "--flagfile=" + path("flags.txt"),
+       "--vtu_every is not a flag of rbaa export"},
+      {"evaluate " + ball + "--adversarial=reference --duration=inf",
+       "--duration=inf: expected a finite number"},
+      {"evaluate " + ball + "--adversarial=reference --rigid_step=nan",
+       "--rigid_step=nan: expected a finite number"},
+      {"attack " + ball + "--iterations=-5", "--iterations=-5"},
+  };
+  for (const auto& [args, fragment] : cases) expect_failure(args + out, fragment);
   const Result fine = run("export --format=polyfem " + ball + "--v=0 --out=" + path("fine"));
   EXPECT_EQ(fine.exit_code, 0) << fine.err;
 }

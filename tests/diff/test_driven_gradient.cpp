@@ -80,6 +80,22 @@ struct StrikeCase {
   }
 };
 
+// The strike run from the Y design's perturbed start, and its adjoint.
+struct StrikeAdjoint {
+  DesignSpace ds;
+  TrajectoryGradientFunction f;
+  Eigen::VectorXd g;
+  TrajectorySeed seed;
+  AdjointResult a;
+  explicit StrikeAdjoint(const StrikeCase& s)
+      : ds(s.scene.mesh, soft_design({DesignField::kY})),
+        f(s.scene.mesh, s.scene.settings, s.scene.q0, s.scene.v0, ds, s.objective) {
+    f.evaluate(ds.initial_theta(true), &g);
+    s.objective->evaluate(f.last().trajectory, f.last().materials, &seed);
+    a = f.differentiable().backward(f.last().trajectory, seed);
+  }
+};
+
 TEST(DrivenGradient, AdjointMatchesFiniteDifferencesAndTheTangentPerFieldOfTheDrivenBody) {
   const StrikeCase s;
   const Body& bar = s.scene.bodies[0];
@@ -171,16 +187,10 @@ TEST(DrivenGradient, ContactResolvingStepsMatchFiniteDifferencesAndTheTangent) {
 // differences of C along a direction on those vertices, and the tangent, agree with the adjoint.
 TEST(DrivenGradient, TheInitialStateEntersADrivenBodyThroughItsDrive) {
   const StrikeCase s;
-  DesignSpace ds(s.scene.mesh, soft_design({DesignField::kY}));
-  TrajectoryGradientFunction f(s.scene.mesh, s.scene.settings, s.scene.q0, s.scene.v0, ds,
-                               s.objective);
-  Eigen::VectorXd g;
-  f.evaluate(ds.initial_theta(true), &g);
-  const Trajectory t = f.last().trajectory;
-  const MaterialField materials = f.last().materials;
-  TrajectorySeed seed;
-  s.objective->evaluate(t, materials, &seed);
-  const AdjointResult a = f.differentiable().backward(t, seed);
+  StrikeAdjoint run(s);
+  const Trajectory t = run.f.last().trajectory;
+  const MaterialField materials = run.f.last().materials;
+  const AdjointResult& a = run.a;
 
   const Body& bar = s.scene.bodies[0];
   std::vector<char> driven(s.scene.mesh.num_vertices(), 0);
@@ -213,7 +223,7 @@ TEST(DrivenGradient, TheInitialStateEntersADrivenBodyThroughItsDrive) {
   const double central = (4 * fd(e / 2) - fd(e)) / 3;
   TangentDirection direction;
   direction.q0 = d;
-  const TangentResult tl = tangent_linear(f.simulator(), materials, t, seed, {direction});
+  const TangentResult tl = tangent_linear(run.f.simulator(), materials, t, run.seed, {direction});
   std::printf("driven bar's free vertices, dC/dq0 . d: adjoint %.9e, tangent %.9e, central "
               "differences %.9e\n",
               a.dq0.dot(d), tl.derivatives[0], central);
@@ -224,18 +234,13 @@ TEST(DrivenGradient, TheInitialStateEntersADrivenBodyThroughItsDrive) {
 
 TEST(DrivenGradient, NoAdjointReachesTheDrivenDofs) {
   const StrikeCase s;
-  DesignSpace ds(s.scene.mesh, soft_design({DesignField::kY}));
-  TrajectoryGradientFunction f(s.scene.mesh, s.scene.settings, s.scene.q0, s.scene.v0, ds,
-                               s.objective);
-  Eigen::VectorXd g;
-  f.evaluate(ds.initial_theta(true), &g);
+  StrikeAdjoint run(s);
+  TrajectoryGradientFunction& f = run.f;
+  const Eigen::VectorXd& g = run.g;
+  const AdjointResult& a = run.a;
   const int stored = f.last().adjoint.stored_factor_solves;
   EXPECT_GT(stored, 0);
-  const Trajectory& t = f.last().trajectory;
-  EXPECT_EQ(test::first_intersection(s.scene.mesh, s.scene.settings, t), "");
-  TrajectorySeed seed;
-  s.objective->evaluate(t, f.last().materials, &seed);
-  const AdjointResult a = f.differentiable().backward(t, seed);
+  EXPECT_EQ(test::first_intersection(s.scene.mesh, s.scene.settings, f.last().trajectory), "");
   double driven = 0;
   for (int d : f.simulator().driven_dofs())
     driven = std::max({driven, std::abs(a.dq0[d]), std::abs(a.dv0[d])});
@@ -244,7 +249,7 @@ TEST(DrivenGradient, NoAdjointReachesTheDrivenDofs) {
   // Stored factors and rebuilt ones give the same gradient (both of the eliminated Hessian).
   f.differentiable().set_storage(FactorStorage::kRebuild);
   Eigen::VectorXd g_rebuilt;
-  f.evaluate(ds.initial_theta(true), &g_rebuilt);
+  f.evaluate(run.ds.initial_theta(true), &g_rebuilt);
   EXPECT_GT(f.last().adjoint.rebuilt_factorizations, 0);
   std::printf(
       "driven: %d stored factor solves; stored vs rebuilt factors, relative difference %.2e\n",
