@@ -386,7 +386,7 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
     std::vector<RigidTouch> touches;
     const auto states =
         simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
-    std::vector<char> touched(states.front().size() + 1, 0);  // by sample
+    std::vector<char> touched(states.front().size(), 0);  // by sample (1 .. the last)
     for (const RigidTouch& t : touches) {
       if (t.first == object && t.second == side) touched.at(t.sample) = 1;
     }
