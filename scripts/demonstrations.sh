@@ -6,16 +6,16 @@
 # OUT/outcomes.md. The cube stack's cubes are meshed at 1500 tets (RBAA_STACK_TETS; the config's
 # 10164 take ~50 min per deformable run). Measured 2026-11-28 on two shared cores, two at a time:
 # 67 min in all; the attacks ball 34 min, bat 43, bunny 23, cube and star under a minute; the
-# evaluations 7 s (star) to 8 min (bin).
+# evaluations 7 s (star) to 8 min (bin). Run end to end on 2026-11-29 beside other work: 84 min.
 # A demonstration whose command fails is reported and left out of the table; the script then exits
-# 1. Attacks resume from their checkpoints when run again.
+# 1, as it does when the table cannot be made. Attacks resume from their checkpoints when run again.
 #
 #   bash scripts/demonstrations.sh [--out=DIR] [--jobs=N] [--only=hoop,bin,stack,star,bat] [--dry-run]
 #
 # --out: where everything goes (default out/demos); --jobs: demonstrations run side by side
 # (default 2, each on one thread); --only: a subset; --dry-run: print each demonstration's
 # commands, one per line after its name, and run nothing. RBAA: the binary (default
-# build/src/rbaa).
+# $RBAA_BUILD_DIR/src/rbaa, build/src/rbaa without it; no spaces in the path).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 
@@ -40,8 +40,12 @@ case "$OUT" in
   *[[:space:]]*) echo "demonstrations.sh: --out='$OUT' holds a space; choose a folder without" >&2
                  exit 2 ;;
 esac
-RBAA=${RBAA:-build/src/rbaa}
+RBAA=${RBAA:-${RBAA_BUILD_DIR:-build}/src/rbaa}
 TETS=${RBAA_STACK_TETS:-1500}
+case "$RBAA" in  # the commands are split into words when run
+  *[[:space:]]*) echo "demonstrations.sh: RBAA='$RBAA' holds a space; use a path without" >&2
+                 exit 2 ;;
+esac
 
 # Each demonstration's commands, one per line: attack, evaluate, export.
 commands() {
@@ -98,6 +102,7 @@ if [ ! -x "$RBAA" ]; then
 fi
 mkdir -p "$OUT/logs"
 LOG=$OUT/times.log
+rm -f "$OUT/outcomes.md"  # an earlier run's table is not this one's
 
 run_demo() {
   local d=$1 step=0 line
@@ -130,6 +135,12 @@ for d in "${DEMOS[@]}"; do
   fi
 done
 if [ ${#tables[@]} -gt 0 ]; then
-  python3 scripts/outcome_table.py "${tables[@]}" > "$OUT/outcomes.md" && cat "$OUT/outcomes.md"
+  # A table that cannot be made (a report without outcomes) fails the run; no empty table stays.
+  if python3 scripts/outcome_table.py "${tables[@]}" --out="$OUT/outcomes.md"; then
+    cat "$OUT/outcomes.md"
+  else
+    rm -f "$OUT/outcomes.md"
+    failed=1
+  fi
 fi
 exit $failed

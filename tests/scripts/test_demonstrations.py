@@ -27,11 +27,14 @@ os.makedirs(out, exist_ok=True)
 if args[0] == "attack":
     open(os.path.join(out, "adversarial.msh"), "w").write("stub\n")
 elif args[0] == "evaluate":
-    if any("bunny_bin" in a for a in args):
+    if any("bunny_bin" in a for a in args) and os.environ.get("STUB_BIN_FAILS", "1") == "1":
         sys.exit("stub: the bin's evaluation fails")
     runs = [{"simulator": s, "object": o, "run": s + " " + o, "detail": "-", "predicate": True}
             for s in ("rigid", "deformable") for o in ("reference", "adversarial")]
-    json.dump({"outcomes": {"predicate": "stands", "runs": runs}, "time_step_s": 0.001,
+    outcomes = {"predicate": "stands", "runs": runs}
+    if any("star" in a for a in args) and os.environ.get("STUB_STAR_NO_OUTCOMES") == "1":
+        outcomes = None  # a config without its demonstration block
+    json.dump({"outcomes": outcomes, "time_step_s": 0.001,
                "baseline_disagreement": 0.01, "rigid_vs_rigid": {"max_com_gap_m": 0.0},
                "timing_s": {}}, open(os.path.join(out, "report.json"), "w"))
 """
@@ -142,6 +145,31 @@ class Demonstrations(unittest.TestCase):
                           read(os.path.join(out_dir, "logs", "bin.2.log")))
             for name in ("hoop", "stack", "star", "bat"):
                 self.assertIn(f"{name} 3 done", log)
+
+
+    def test_a_table_that_cannot_be_made_fails_the_run_and_leaves_no_table(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            stub = os.path.join(tmp, "rbaa")
+            with open(stub, "w") as f:
+                f.write(STUB)
+            os.chmod(stub, os.stat(stub).st_mode | stat.S_IEXEC)
+            env = dict(os.environ, RBAA=stub, STUB_CALLS=os.path.join(tmp, "calls.txt"),
+                       STUB_BIN_FAILS="0", STUB_STAR_NO_OUTCOMES="1")
+            out_dir = os.path.join(tmp, "demos")
+            os.makedirs(out_dir)
+            with open(os.path.join(out_dir, "outcomes.md"), "w") as f:
+                f.write("an earlier run's table\n")
+            code, out, err = run(f"--out={out_dir}", "--jobs=3", env=env)
+            self.assertEqual(code, 1, err)
+            self.assertIn("no 'outcomes'", err)
+            self.assertFalse(os.path.exists(os.path.join(out_dir, "outcomes.md")))
+
+    def test_a_binary_path_with_a_space_is_refused(self):
+        env = dict(os.environ, RBAA="/tmp/my dir/rbaa")
+        code, out, err = run("--dry-run", env=env)
+        self.assertEqual((code, out), (2, ""), err)
+        self.assertEqual(len(err.strip().splitlines()), 1, err)
+        self.assertIn("space", err)
 
 
 if __name__ == "__main__":
