@@ -205,6 +205,15 @@ TEST(Evaluation, RigidReboundStartsAtAnImpactWithThePlaneItself) {
   EXPECT_DOUBLE_EQ(rigid_first_rebound(states, floor, 0.0), 0.75 / 4);
   EXPECT_DOUBLE_EQ(rigid_first_rebound(states, floor, 0.0, [](int k) { return k == 20; }), 0.75);
   EXPECT_TRUE(std::isnan(rigid_first_rebound(states, floor, 0.0, [](int k) { return k == 5; })));
+  // A body at rest against the plane (normal velocity exactly 0) is struck towards it at step 5:
+  // no episode starts there (it was not approaching, and -v_out / 0 is no ratio); the bounce that
+  // follows, -1 -> +0.5 at step 20, is the rebound.
+  std::vector<RigidState> kicked(30);
+  for (int k = 0; k < 30; ++k) {
+    kicked[k].time = 0.01 * k;
+    kicked[k].velocity = {0, 0, k <= 5 ? 0.0 : k <= 20 ? -1.0 : 0.5};
+  }
+  EXPECT_DOUBLE_EQ(rigid_first_rebound(kicked, floor, 0.0, [](int) { return true; }), 0.5);
 }
 
 // The same through calibrate_restitution and Bullet: a ball dropped onto a 30 deg slope bounces
