@@ -40,6 +40,15 @@ elif args[0] == "evaluate":
 """
 
 
+def write_stub(directory):
+    """The stand-in rbaa in `directory`, executable; its path."""
+    stub = os.path.join(directory, "rbaa")
+    with open(stub, "w") as f:
+        f.write(STUB)
+    os.chmod(stub, os.stat(stub).st_mode | stat.S_IEXEC)
+    return stub
+
+
 def run(*args, env=None):
     p = subprocess.run(["bash", os.path.join(SOURCE, "scripts", "demonstrations.sh"), *args],
                        capture_output=True, text=True, env=env)
@@ -119,12 +128,8 @@ class Demonstrations(unittest.TestCase):
 
     def test_a_failed_demonstration_is_reported_and_the_others_are_tabled(self):
         with tempfile.TemporaryDirectory() as tmp:
-            stub = os.path.join(tmp, "rbaa")
-            with open(stub, "w") as f:
-                f.write(STUB)
-            os.chmod(stub, os.stat(stub).st_mode | stat.S_IEXEC)
             calls = os.path.join(tmp, "calls.txt")
-            env = dict(os.environ, RBAA=stub, STUB_CALLS=calls)
+            env = dict(os.environ, RBAA=write_stub(tmp), STUB_CALLS=calls)
             out_dir = os.path.join(tmp, "demos")
             code, out, err = run(f"--out={out_dir}", "--jobs=3", env=env)
             self.assertEqual(code, 1, err)
@@ -146,14 +151,9 @@ class Demonstrations(unittest.TestCase):
             for name in ("hoop", "stack", "star", "bat"):
                 self.assertIn(f"{name} 3 done", log)
 
-
     def test_a_table_that_cannot_be_made_fails_the_run_and_leaves_no_table(self):
         with tempfile.TemporaryDirectory() as tmp:
-            stub = os.path.join(tmp, "rbaa")
-            with open(stub, "w") as f:
-                f.write(STUB)
-            os.chmod(stub, os.stat(stub).st_mode | stat.S_IEXEC)
-            env = dict(os.environ, RBAA=stub, STUB_CALLS=os.path.join(tmp, "calls.txt"),
+            env = dict(os.environ, RBAA=write_stub(tmp), STUB_CALLS=os.path.join(tmp, "calls.txt"),
                        STUB_BIN_FAILS="0", STUB_STAR_NO_OUTCOMES="1")
             out_dir = os.path.join(tmp, "demos")
             os.makedirs(out_dir)
