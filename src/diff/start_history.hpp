@@ -8,7 +8,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "rbaa/sim/simulator.hpp"
 
@@ -20,7 +19,7 @@ void for_driven_body_vertices(const Simulator& sim, int k, F&& f) {
   const double t = -k * sim.settings().time_step;
   for (const Body& b : sim.settings().bodies) {
     if (!b.is_driven()) continue;
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(b.drive.angle(t), b.drive.axis).toRotationMatrix();
+    const Eigen::Matrix3d R = b.drive.rotation(t);
     for (int i = b.vertex_begin; i < b.vertex_end; ++i) f(i, R);
   }
 }

@@ -420,8 +420,7 @@ struct EpisodeSides {
 
 // x0 with drive.position(x0, t) = x: x0 = centre + R(t)^T (x - centre - t velocity).
 Eigen::Vector3d drive_rest_point(const PrescribedMotion& drive, const Eigen::Vector3d& x, double t) {
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(drive.angle(t), drive.axis).toRotationMatrix();
-  return drive.centre + R.transpose() * (x - drive.centre - t * drive.velocity);
+  return drive.centre + drive.rotation(t).transpose() * (x - drive.centre - t * drive.velocity);
 }
 
 EpisodeSides episode_sides(const std::vector<Body>& bodies, const ContactEpisode& e, double t) {

@@ -252,9 +252,7 @@ btRigidBody* add_body(BulletWorld& w, const RigidBody& r, int index,
 // t = 0): x0 -> drive.position(x0, t) is the rotation R(t) about the axis through the drive's
 // centre, so the frame turns to R(t) A and its origin goes where the drive carries c0.
 btTransform kinematic_pose(const RigidBody& r, double t) {
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(r.drive.angle(t), r.drive.axis).toRotationMatrix();
-  return btTransform(to_bt(Eigen::Matrix3d(R * r.mass.principal_axes)),
+  return btTransform(to_bt(Eigen::Matrix3d(r.drive.rotation(t) * r.mass.principal_axes)),
                      to_bt(r.drive.position(r.mass.centre, t)));
 }
 

@@ -45,12 +45,16 @@ double PrescribedMotion::angle(double t) const {
   return table_integral(angular_velocity_table, t) - table_integral(angular_velocity_table, 0.0);
 }
 
+Eigen::Matrix3d PrescribedMotion::rotation(double t) const {
+  return Eigen::AngleAxisd(angle(t), axis).toRotationMatrix();
+}
+
 Eigen::Vector3d PrescribedMotion::position(const Eigen::Vector3d& x0, double t) const {
-  return centre + t * velocity + Eigen::AngleAxisd(angle(t), axis) * (x0 - centre);
+  return centre + t * velocity + rotation(t) * (x0 - centre);
 }
 
 Eigen::Vector3d PrescribedMotion::point_velocity(const Eigen::Vector3d& x0, double t) const {
-  const Eigen::Vector3d r = Eigen::AngleAxisd(angle(t), axis) * (x0 - centre);
+  const Eigen::Vector3d r = rotation(t) * (x0 - centre);
   return velocity + angular_speed(t) * axis.cross(r);
 }
 

@@ -66,6 +66,8 @@ struct PrescribedMotion {
   double angular_speed(double t) const;
   /// angle(t) (rad).
   double angle(double t) const;
+  /// R(axis, angle(t)): the turn the motion gives by time t, d x(t) / d x0.
+  Eigen::Matrix3d rotation(double t) const;
   /// x(t) of the point that is at x0 at t = 0.
   Eigen::Vector3d position(const Eigen::Vector3d& x0, double t) const;
   /// dx/dt at t of the point that is at x0 at t = 0.
