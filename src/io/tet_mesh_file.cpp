@@ -76,32 +76,6 @@ void write_tet_mesh(const std::string& path, const TetMesh& mesh, const ElementD
   }
 }
 
-int remove_unreferenced_vertices(TetMesh& mesh) {
-  const int nv = mesh.num_vertices();
-  std::vector<int> new_index(nv, -1);
-  for (int e = 0; e < mesh.num_tets(); ++e) {
-    for (int k = 0; k < 4; ++k) {
-      const int v = mesh.T(e, k);
-      if (v >= 0 && v < nv) new_index[v] = 0;
-    }
-  }
-  int kept = 0;
-  for (int i = 0; i < nv; ++i) {
-    if (new_index[i] == 0) new_index[i] = kept++;
-  }
-  if (kept == nv) return 0;
-  Vertices V(kept, 3);
-  for (int i = 0; i < nv; ++i) {
-    if (new_index[i] >= 0) V.row(new_index[i]) = mesh.V.row(i);
-  }
-  for (int e = 0; e < mesh.num_tets(); ++e) {
-    for (int k = 0; k < 4; ++k) {
-      const int v = mesh.T(e, k);
-      if (v >= 0 && v < nv) mesh.T(e, k) = new_index[v];
-    }
-  }
-  mesh.V = std::move(V);
-  return nv - kept;
-}
+int remove_unreferenced_vertices(TetMesh& mesh) { return remove_unreferenced_vertices(mesh.V, mesh.T); }
 
 }  // namespace rbaa

@@ -117,20 +117,8 @@ void validate_surface(SurfaceMesh& surface, const std::string& source) {
   }
   // A point no face uses (files exported with stray vertices have them) is no part of the
   // surface, and CGAL's mesher crashes on one: drop it, keeping the others' order.
-  std::vector<int> new_index(surface.V.rows(), -1);
-  for (Eigen::Index i = 0; i < surface.F.size(); ++i) new_index[surface.F.data()[i]] = 0;
-  int used = 0;
-  for (int& k : new_index) {
-    if (k == 0) k = used++;
-  }
-  if (used < surface.V.rows()) {
-    Vertices V(used, 3);
-    for (Eigen::Index v = 0; v < surface.V.rows(); ++v) {
-      if (new_index[v] >= 0) V.row(new_index[v]) = surface.V.row(v);
-    }
-    for (Eigen::Index i = 0; i < surface.F.size(); ++i) surface.F.data()[i] = new_index[surface.F.data()[i]];
-    surface.V = std::move(V);
-    if (surface.V.rows() < 4) throw InputError(source + ": surface is empty");
+  if (remove_unreferenced_vertices(surface.V, surface.F) > 0 && surface.V.rows() < 4) {
+    throw InputError(source + ": surface is empty");
   }
   check_edges(surface, source);
 

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rbaa {
@@ -25,6 +26,33 @@ struct TetMesh {
   int num_vertices() const { return static_cast<int>(V.rows()); }
   int num_tets() const { return static_cast<int>(T.rows()); }
 };
+
+/// Drops the rows of V that no entry of `elements` (tets, faces: any row-major index matrix)
+/// refers to and renumbers `elements`, keeping the order; entries outside [0, #V) are left for the
+/// caller's checks. Returns how many rows were dropped.
+template <class Elements>
+int remove_unreferenced_vertices(Vertices& V, Elements& elements) {
+  const int nv = static_cast<int>(V.rows());
+  int* const index = elements.data();
+  std::vector<int> new_index(nv, -1);
+  for (Eigen::Index i = 0; i < elements.size(); ++i) {
+    if (index[i] >= 0 && index[i] < nv) new_index[index[i]] = 0;
+  }
+  int kept = 0;
+  for (int& k : new_index) {
+    if (k == 0) k = kept++;
+  }
+  if (kept == nv) return 0;
+  Vertices used(kept, 3);
+  for (int v = 0; v < nv; ++v) {
+    if (new_index[v] >= 0) used.row(new_index[v]) = V.row(v);
+  }
+  for (Eigen::Index i = 0; i < elements.size(); ++i) {
+    if (index[i] >= 0 && index[i] < nv) index[i] = new_index[index[i]];
+  }
+  V = std::move(used);
+  return nv - kept;
+}
 
 /// Signed volume ((b - a) x (c - a)) . (d - a) / 6.
 double signed_tet_volume(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
