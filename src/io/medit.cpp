@@ -92,7 +92,7 @@ TetMesh read_medit(const std::string& path) {
       if (have_vertices) reader.fail("second Vertices section");
       const long long n = reader.read_int_anywhere("the number of vertices");
       if (n < 0 || n > 2000000000LL) reader.fail("bad number of vertices " + std::to_string(n));
-      coords.reserve(3 * static_cast<std::size_t>(std::min<long long>(n, 1 << 16)));  // no promise
+      coords.reserve(3 * announced_capacity(n));
       for (long long i = 0; i < n; ++i) {
         for (int c = 0; c < 3; ++c)
           coords.push_back(reader.read_double_anywhere("a vertex coordinate"));

@@ -1,6 +1,5 @@
 #include "rbaa/io/msh.hpp"
 
-#include <algorithm>
 #include <array>
 #include <unordered_map>
 #include <unordered_set>
@@ -219,10 +218,8 @@ class MshParser {
         reader_.fail("node blocks hold more nodes than the " + std::to_string(n) +
                      " announced on line " + std::to_string(count_line));
       }
-      // Grown as the tags are read, not sized by the count: a file claiming 2e9 nodes would
-      // otherwise ask for 16 GB before its missing lines are noticed.
       std::vector<long long> tags;
-      tags.reserve(std::min(k, 1 << 16));
+      tags.reserve(announced_capacity(k));
       for (int i = 0; i < k; ++i) {
         expect_entry_line("node tag", i, k, block_line, {"$Nodes", "nodes", n, done});
         tags.push_back(reader_.read_int("a node tag"));
@@ -387,8 +384,8 @@ class MshParser {
                      " components; rbaa reads scalar fields (1 component)");
       }
     }
-    data.element_tags.reserve(std::min<long long>(count, 1 << 16));  // a count is no promise
-    data.values.reserve(std::min<long long>(count, 1 << 16));
+    data.element_tags.reserve(announced_capacity(count));
+    data.values.reserve(announced_capacity(count));
     for (int i = 0; i < count; ++i) {
       expect_entry_line("element data value", i, count, count_line,
                         {"$ElementData", "values of '" + data.name + "'", count, i});

@@ -1,6 +1,5 @@
 #include "rbaa/io/tetgen.hpp"
 
-#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -38,7 +37,7 @@ NodeFile read_node_file(const std::string& path) {
   if (dim != 3) reader.fail("dimension " + std::to_string(dim) + ": rbaa reads 3D meshes only");
   if (markers != 0 && markers != 1) reader.fail("the boundary marker flag must be 0 or 1");
   NodeFile file;
-  file.coords.reserve(3 * static_cast<std::size_t>(std::min(n, 1 << 16)));  // a count is no promise
+  file.coords.reserve(3 * announced_capacity(n));
   for (int i = 0; i < n; ++i) {
     if (!reader.next_line()) {
       reader.fail_end_of_file("point " + std::to_string(i + 1) + " of the " + std::to_string(n) +
@@ -96,9 +95,8 @@ TetMesh read_tetgen(const std::string& path) {
   }
   TetMesh mesh;
   mesh.V = Eigen::Map<const Vertices>(nodes.coords.data(), nv, 3);
-  // Grown as the tetrahedra are read (a header claiming 2e9 would otherwise ask for 32 GB first).
   std::vector<std::array<int, 4>> tets;
-  tets.reserve(std::min(nt, 1 << 16));
+  tets.reserve(announced_capacity(nt));
   for (int e = 0; e < nt; ++e) {
     tets.emplace_back();
     if (!reader.next_line()) {

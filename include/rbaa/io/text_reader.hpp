@@ -4,11 +4,19 @@
 // into the next line, which is how counts that are off by one are caught at the right line;
 // the *_anywhere reads treat the file as a stream of whitespace-separated words (MEDIT).
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace rbaa {
+
+/// What to reserve for a list a file announces `count` entries of: at most 65536, the rest grown
+/// as the entries are read. A count is no promise: a short file claiming 2e9 entries would
+/// otherwise ask for gigabytes before its missing lines are noticed.
+inline std::size_t announced_capacity(long long count) {
+  return static_cast<std::size_t>(count < 0 ? 0 : count < (1 << 16) ? count : (1 << 16));
+}
 
 /// The whole file at `path`; throws InputError "PATH: cannot read: REASON" (a folder, a missing
 /// or unreadable file, an I/O error).
