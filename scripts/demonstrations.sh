@@ -47,30 +47,24 @@ case "$RBAA" in  # the commands are split into words when run
                  exit 2 ;;
 esac
 
-# Each demonstration's commands, one per line: attack, evaluate, export.
+# A demonstration's commands, one per line: the attack of ATTACK_CONFIG into OUT/ATTACK_DIR, the
+# evaluation of its object on configs/demos/DEMO.yaml into OUT/NAME and its export into
+# OUT/polyfem_NAME; SETS go to all three, EVAL_FLAGS to the evaluation alone.
+three() {  # ATTACK_CONFIG ATTACK_DIR DEMO NAME [SETS [EVAL_FLAGS]]
+  local object=$OUT/$2/adversarial.msh sets=${5:+ $5} eval_flags=${6:+ $6}
+  echo "$RBAA attack --config=configs/$1$sets --out=$OUT/$2"
+  echo "$RBAA evaluate --config=configs/demos/$3.yaml --adversarial=$object$sets$eval_flags --out=$OUT/$4"
+  echo "$RBAA export --format=polyfem --config=configs/demos/$3.yaml --adversarial=$object$sets --out=$OUT/polyfem_$4"
+}
+
+# Each demonstration's commands.
 commands() {
-  local O=$OUT
   case "$1" in
-    hoop)
-      echo "$RBAA attack --config=configs/ball_accurate.yaml --out=$O/ball_accurate"
-      echo "$RBAA evaluate --config=configs/demos/ball_hoop.yaml --adversarial=$O/ball_accurate/adversarial.msh --out=$O/hoop"
-      echo "$RBAA export --format=polyfem --config=configs/demos/ball_hoop.yaml --adversarial=$O/ball_accurate/adversarial.msh --out=$O/polyfem_hoop" ;;
-    bin)
-      echo "$RBAA attack --config=configs/bunny_accurate.yaml --out=$O/bunny_accurate"
-      echo "$RBAA evaluate --config=configs/demos/bunny_bin.yaml --adversarial=$O/bunny_accurate/adversarial.msh --out=$O/bin"
-      echo "$RBAA export --format=polyfem --config=configs/demos/bunny_bin.yaml --adversarial=$O/bunny_accurate/adversarial.msh --out=$O/polyfem_bin" ;;
-    stack)
-      echo "$RBAA attack --config=configs/cube_strike.yaml --set=mesh.target_tets=$TETS --out=$O/cube"
-      echo "$RBAA evaluate --config=configs/demos/cube_stack.yaml --adversarial=$O/cube/adversarial.msh --set=mesh.target_tets=$TETS --out=$O/stack"
-      echo "$RBAA export --format=polyfem --config=configs/demos/cube_stack.yaml --adversarial=$O/cube/adversarial.msh --set=mesh.target_tets=$TETS --out=$O/polyfem_stack" ;;
-    star)
-      echo "$RBAA attack --config=configs/star.yaml --out=$O/star_attack"
-      echo "$RBAA evaluate --config=configs/demos/star.yaml --adversarial=$O/star_attack/adversarial.msh --out=$O/star"
-      echo "$RBAA export --format=polyfem --config=configs/demos/star.yaml --adversarial=$O/star_attack/adversarial.msh --out=$O/polyfem_star" ;;
-    bat)
-      echo "$RBAA attack --config=configs/bat_accurate.yaml --out=$O/bat_accurate"
-      echo "$RBAA evaluate --config=configs/demos/bat.yaml --adversarial=$O/bat_accurate/adversarial.msh --duration=0.5 --out=$O/bat"
-      echo "$RBAA export --format=polyfem --config=configs/demos/bat.yaml --adversarial=$O/bat_accurate/adversarial.msh --out=$O/polyfem_bat" ;;
+    hoop) three ball_accurate.yaml ball_accurate ball_hoop hoop ;;
+    bin) three bunny_accurate.yaml bunny_accurate bunny_bin bin ;;
+    stack) three cube_strike.yaml cube cube_stack stack "--set=mesh.target_tets=$TETS" ;;
+    star) three star.yaml star_attack star star ;;
+    bat) three bat_accurate.yaml bat_accurate bat bat "" "--duration=0.5" ;;
     *) return 1 ;;
   esac
 }
