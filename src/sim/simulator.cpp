@@ -397,6 +397,9 @@ void Simulator::apply_drive_step(const Eigen::VectorXd& q_n, double t0, double t
 
 StepStats Simulator::advance() {
   const auto start = std::chrono::steady_clock::now();
+  // The integrator re-derives the next step's rule and weight after every step (a step of h/4
+  // after h has another weight than the h/4 after it): the forms take them from it each time.
+  use_step(integrator_.next_rule(), integrator_.potential_weight(), integrator_.next_step());
   const Eigen::VectorXd& q_n = integrator_.current();
   const Eigen::VectorXd q_hat = integrator_.predictor();
   inertia_->set_predictor(q_hat);

@@ -162,5 +162,29 @@ TEST(ContactResolving, RefusesSubStepsThatAreNotPowersOfTwo) {
   }
 }
 
+// A step size set once holds for every advance() after it, weights included: three steps of
+// h/4 in free fall (gravity on, far from the plane) are the same whether set_next_step comes
+// before the first step only or before each. The integrator re-derives the next step's rule and
+// weight when it takes a step (after one h/4 from h the weight is ((3/8) h/4)^2 ... then
+// ((1/3) h/4)^2 ...); forms that kept the first step's weight would pull the body by the wrong
+// amount of gravity from the second step on.
+TEST(ContactResolving, ASetStepHoldsForEveryAdvanceAfterIt) {
+  Throw t = thrown_at_plane(1.0, 1.0, 0.01, 3, 4);
+  t.settings.gravity = Eigen::Vector3d(0, 0, -9.8);
+  Simulator once(t.mesh, stiff(t.mesh), t.settings), each(t.mesh, stiff(t.mesh), t.settings);
+  once.reset(t.q0, t.v0);
+  each.reset(t.q0, t.v0);
+  once.set_next_step(1);
+  for (int k = 0; k < 3; ++k) {
+    each.set_next_step(1);
+    once.advance();
+    each.advance();
+    const double gap = (once.integrator().current() - each.integrator().current()).cwiseAbs().maxCoeff();
+    std::printf("step %d of h/4: set once vs before each, max difference %.3g m\n", k + 1, gap);
+    EXPECT_EQ(gap, 0.0) << "step " << k + 1;
+  }
+  EXPECT_NEAR(once.time(), 0.0075, 1e-15);
+}
+
 }  // namespace
 }  // namespace rbaa

@@ -107,8 +107,9 @@ class Simulator {
   /// (rigid) past, and its driven vertices then follow the drive from their positions in q0.
   /// Throws rbaa::InputError if a surface vertex starts on or beyond a plane.
   void reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0);
-  /// One time step of the integrator's next size (the scene's h unless set_next_step); throws rbaa::SolverError naming the step when Newton fails. With driven
-  /// vertices the step first moves them alone from q_n to their prescribed positions at t_{n+1}
+  /// One time step of the integrator's next size (the scene's h unless set_next_step, which holds
+  /// until set again; the forms take the step's own rule and weight each time); throws
+  /// rbaa::SolverError naming the step when Newton fails. With driven vertices the step first moves them alone from q_n to their prescribed positions at t_{n+1}
   /// (rbaa::InputError naming the step and the body if that move is not admissible: it crosses,
   /// touches or closes to within 1e-3 of a gap to an obstacle or another body), then minimises
   /// over the other dofs with them fixed.
