@@ -155,8 +155,13 @@ SweepGrid parse_sweep_grid(const std::string& yaml_text, const std::string& sour
   }
   if (!root || !root.IsMap())
     r.fail(root, "expected a mapping with config, verb and product or rows");
+  // yaml-cpp keeps both entries of a repeated key and root["product"] finds the first, so a
+  // second product: (or set:) block would be dropped without a word.
+  std::set<std::string> top_seen;
   for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) r.fail(kv.first, "a key must be a name, not a list or mapping");
+    const std::string key = kv.first.Scalar();
+    if (!top_seen.insert(key).second) r.fail(kv.first, "key '" + key + "' given twice");
     if (std::find(kTopKeys.begin(), kTopKeys.end(), key) == kTopKeys.end()) {
       std::string list;
       for (const auto& k : kTopKeys) list += (list.empty() ? "" : ", ") + k;

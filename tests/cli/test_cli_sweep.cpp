@@ -179,6 +179,12 @@ TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {
         ":2: verb 'smulate' is not one of: attack, evaluate, simulate, study");
   fails("unknown_flag.yaml", head + "flags:\n  vtu_evry: 0\nproduct: {time.step: [0.01]}\n",
         ":4: flags: unknown flag --vtu_evry (rbaa simulate --help lists its flags)");
+  fails("twice.yaml", head + "product: {time.step: [0.01]}\nproduct: {time.step: [0.02]}\n",
+        ":4: key 'product' given twice");
+  // A key that is a list: an input error (exit 2) naming the line, not yaml-cpp's conversion.
+  fails("list_key.yaml", head + "? [a, b]\n: 1\nproduct: {time.step: [0.01]}\n",
+        ":3: a key must be a name, not a list or mapping");
+  EXPECT_EQ(run("sweep --grid=" + path("list_key.yaml") + " --out=" + path("out")).exit_code, 2);
   expect_failure("sweep --grid=" + path("missing.yaml") + " --out=" + path("out"),
                  "missing.yaml: cannot read the grid file");
   expect_failure("sweep --out=" + path("out"), "--grid is required");

@@ -142,6 +142,14 @@ TEST(SweepGrid, BadGridsNameFileLineAndValue) {
   EXPECT_EQ(parse_error(head + "product: {a.b: ['x;y']}\n"),
             "grid.yaml:3: key 'a.b': value 'x;y' contains ';', which separates --set items");
   EXPECT_EQ(parse_error(head + "product: {a.b: [1]\n").substr(0, 24), "grid.yaml:4: invalid YAM");
+  // A top-level key given twice: yaml-cpp keeps both and a lookup finds the first, so the second
+  // block would be dropped (here: 1 row instead of 2, and set's a.b = 1 instead of 2).
+  EXPECT_EQ(parse_error(head + "product: {a.b: [1]}\nproduct: {a.b: [2, 3]}\n"),
+            "grid.yaml:4: key 'product' given twice");
+  EXPECT_EQ(parse_error(head + "set: {a.b: 1}\nproduct: {c.d: [1]}\nset: {a.b: 2}\n"),
+            "grid.yaml:5: key 'set' given twice");
+  EXPECT_EQ(parse_error(head + "? [a, b]\n: 1\nproduct: {a.b: [1]}\n"),
+            "grid.yaml:3: a key must be a name, not a list or mapping");
 }
 
 // jobs x threads <= cores unless the user asks for more threads (or more jobs than cores).
