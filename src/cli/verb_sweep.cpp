@@ -4,6 +4,7 @@
 #include <gflags/gflags.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <filesystem>
@@ -66,14 +67,25 @@ std::string overrides_text(const rbaa::SweepRow& row) {
   return s.empty() ? "base config" : s;
 }
 
-// Every extra flag of the grid must be one the program knows (a typo would fail every row).
+// Every extra flag of the grid must be one the grid's verb reads (a typo, or another verb's flag,
+// would fail every row). gflags' registry is global, so a flag it knows may belong to another
+// verb; main() refuses those for the row by the verb's own list, and so does this, before any row
+// starts. glog's and gflags' own flags (defined outside cli/) are every verb's, as in main().
 void check_grid_flags(const rbaa::SweepGrid& grid) {
+  const auto verbs = rbaa::cli::registered_verbs();
+  const auto verb = std::find_if(verbs.begin(), verbs.end(),
+                                 [&](const rbaa::cli::Verb& v) { return v.name == grid.verb; });
   for (const rbaa::SweepFlag& f : grid.flags) {
+    const std::string where = grid.source + ":" + std::to_string(f.line) + ": flags: ";
+    const std::string help = " (rbaa " + grid.verb + " --help lists its flags)";
     gflags::CommandLineFlagInfo info;
     if (!gflags::GetCommandLineFlagInfo(f.name.c_str(), &info)) {
-      throw rbaa::InputError(grid.source + ":" + std::to_string(f.line) +
-                             ": flags: unknown flag --" + f.name + " (rbaa " + grid.verb +
-                             " --help lists its flags)");
+      throw rbaa::InputError(where + "unknown flag --" + f.name + help);
+    }
+    const bool ours = info.filename.find("cli/") != std::string::npos;
+    if (ours && verb != verbs.end() &&
+        std::find(verb->flags.begin(), verb->flags.end(), f.name) == verb->flags.end()) {
+      throw rbaa::InputError(where + "--" + f.name + " is not a flag of rbaa " + grid.verb + help);
     }
   }
 }

@@ -179,6 +179,10 @@ TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {
         ":2: verb 'smulate' is not one of: attack, evaluate, simulate, study");
   fails("unknown_flag.yaml", head + "flags:\n  vtu_evry: 0\nproduct: {time.step: [0.01]}\n",
         ":4: flags: unknown flag --vtu_evry (rbaa simulate --help lists its flags)");
+  // A flag of another verb: gflags knows it, but every row would fail on it.
+  fails("other_verbs_flag.yaml", head + "flags: {iterations: 5}\nproduct: {time.step: [0.01]}\n",
+        ":3: flags: --iterations is not a flag of rbaa simulate (rbaa simulate --help lists its "
+        "flags)");
   fails("twice.yaml", head + "product: {time.step: [0.01]}\nproduct: {time.step: [0.02]}\n",
         ":4: key 'product' given twice");
   // A key that is a list: an input error (exit 2) naming the line, not yaml-cpp's conversion.
