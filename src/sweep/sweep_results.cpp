@@ -75,10 +75,14 @@ std::string sweep_results_csv(const SweepGrid& grid, const std::string& out_dir,
     const RowOutcome& o = outcomes.at(static_cast<size_t>(row.index));
     const std::string folder = row_folder_name(row.index);
     std::vector<std::string> cells = {std::to_string(row.index), status_name(o.status)};
+    // The value the row ran with: its own, else the grid's set: (the row's comes last in --set,
+    // row_arguments); empty only where the config's value stood.
     for (const std::string& key : grid.swept_keys) {
       std::string value;
-      for (const SweepOverride& ov : row.overrides) {
-        if (ov.key == key) value = ov.value;
+      for (const auto* list : {&grid.fixed, &row.overrides}) {
+        for (const SweepOverride& ov : *list) {
+          if (ov.key == key) value = ov.value;
+        }
       }
       cells.push_back(value);
     }

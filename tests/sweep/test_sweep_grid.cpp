@@ -227,6 +227,21 @@ TEST_F(SweepFiles, ResultsTableHasEveryRowWithStatusFiguresAndErrors) {
   }
 }
 
+// A swept key's cell is the value the row ran with: its own, else the grid's set: value.
+TEST_F(SweepFiles, ResultsTableFillsASweptKeyFromSetWhereTheRowHasNone) {
+  const auto g = parse(
+      "config: star.yaml\nverb: study\n"
+      "set: {a.b: 5}\n"
+      "rows: [{a.b: 1}, {c.d: 2}]\n");
+  EXPECT_EQ(rbaa::row_arguments(g, g.rows[1])[2], "--set=a.b=5;c.d=2");
+  const std::string csv =
+      rbaa::sweep_results_csv(g, dir_.string(), rbaa::read_sweep_outcomes(g, dir_.string()));
+  EXPECT_EQ(csv,
+            "row,status,a.b,c.d,seconds,error,folder\n"
+            "0,pending,1,,,,row-000\n"
+            "1,pending,5,2,,,row-001\n");
+}
+
 TEST_F(SweepFiles, SlurmArrayHasOneTaskPerRowAndAMergeAfterIt) {
   const auto g = parse(
       "config: star.yaml\nverb: simulate\nproduct: {time.duration: [0.1, 0.2], attack.seed: [1, "

@@ -14,7 +14,8 @@ namespace rbaa {
 std::vector<RowOutcome> read_sweep_outcomes(const SweepGrid& grid, const std::string& out_dir);
 
 /// The results table: header "row,status,<swept keys>,<grid.report_columns>,seconds,error,folder",
-/// then one line per row. Report figures come from the row's report.json (dotted paths; empty
+/// then one line per row. A swept key's cell is the row's value, else the grid's set: value (empty
+/// where the config's stood). Report figures come from the row's report.json (dotted paths; empty
 /// where absent or the row did not finish); text fields are quoted when they need it.
 std::string sweep_results_csv(const SweepGrid& grid, const std::string& out_dir,
                               const std::vector<RowOutcome>& outcomes);
