@@ -191,8 +191,10 @@ RBAA_REGISTER_VERB(
         "per\n"
         "row: the swept values, status, report.json's headline figures, seconds, error. Running "
         "again\n"
-        "skips finished rows and re-runs failed ones; a failed row does not stop the others. Exit\n"
-        "code 0 when every row is ok, 1 when one failed, 2 on bad input.\n"
+        "skips finished rows and re-runs failed ones; a failed row does not stop the others.\n"
+        "A row of other settings in DIR (the grid, or the config or a file it builds on,\n"
+        "edited since) is refused: use another --out. Exit code 0 when every row is ok, 1 when\n"
+        "one failed, 2 on bad input.\n"
         "--emit=slurm writes DIR/slurm/array.sbatch (one array task per row: "
         "--row=$SLURM_ARRAY_TASK_ID),\n"
         "merge.sbatch (--merge, after the array) and submit.sh, which submits both.",

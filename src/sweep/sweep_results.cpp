@@ -7,6 +7,7 @@
 
 #include "rbaa/error.hpp"
 #include "rbaa/io/atomic_file.hpp"
+#include "rbaa/sweep/config_fingerprint.hpp"
 
 namespace rbaa {
 namespace {
@@ -46,17 +47,28 @@ std::string figure(const nlohmann::json& report, const std::string& dotted) {
 }  // namespace
 
 std::vector<RowOutcome> read_sweep_outcomes(const SweepGrid& grid, const std::string& out_dir) {
+  // The arguments name the config by its path; its contents are in the fingerprint.
+  const std::string fingerprint = config_fingerprint(grid);
   std::vector<RowOutcome> outcomes;
   for (const SweepRow& row : grid.rows) {
     const std::string dir = (fs::path(out_dir) / row_folder_name(row.index)).string();
     RowOutcome o = read_row_outcome(dir, row.index);
     const auto args = row_arguments(grid, row);
+    const std::string that_row = grid.source + "'s row " + std::to_string(row.index);
     if (o.status != RowStatus::kPending && o.arguments != args) {
       throw InputError(dir + " holds a run of other settings (" + joined(o.arguments) + ") than " +
-                       grid.source + "'s row " + std::to_string(row.index) + " (" + joined(args) +
+                       that_row + " (" + joined(args) +
                        "): use another --out, or remove that folder");
     }
-    if (o.status == RowStatus::kPending) o.arguments = args;
+    if (o.status != RowStatus::kPending && !o.config_fingerprint.empty() &&
+        o.config_fingerprint != fingerprint) {
+      throw InputError(dir + " holds a run of other settings than " + that_row + ": " +
+                       grid.config + " or a file it builds on changed since (config fingerprint " +
+                       o.config_fingerprint + ", now " + fingerprint +
+                       "): use another --out, or remove that folder");
+    }
+    o.arguments = args;
+    o.config_fingerprint = fingerprint;
     outcomes.push_back(std::move(o));
   }
   return outcomes;

@@ -67,6 +67,7 @@ RowOutcome read_row_outcome(const std::string& row_dir, int index) {
     r.error = j.value("error", "");
     r.exit_code = j.value("exit_code", 0);
     r.seconds = j.value("seconds", 0.0);
+    r.config_fingerprint = j.value("config_fingerprint", "");
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file + ": unreadable sweep row marker (" + e.what() + ")");
   }
@@ -77,9 +78,11 @@ void write_row_outcome(const std::string& row_dir, const RowOutcome& r) {
   std::error_code ec;
   fs::create_directories(row_dir, ec);
   if (ec) throw InputError(row_dir + ": cannot create the row's folder (" + ec.message() + ")");
-  const nlohmann::json j = {{"row", r.index},           {"status", status_name(r.status)},
-                            {"arguments", r.arguments}, {"error", r.error},
-                            {"exit_code", r.exit_code}, {"seconds", r.seconds}};
+  const nlohmann::json j = {
+      {"row", r.index},           {"status", status_name(r.status)},
+      {"arguments", r.arguments}, {"config_fingerprint", r.config_fingerprint},
+      {"error", r.error},         {"exit_code", r.exit_code},
+      {"seconds", r.seconds}};
   write_file_atomically((fs::path(row_dir) / kMarker).string(),
                         [&](std::ostream& out) { out << j.dump(2) << "\n"; });
 }

@@ -23,8 +23,8 @@ namespace fs = std::filesystem;
 const std::string kStar = std::string(RBAA_SOURCE_DIR) + "/configs/star.yaml";
 
 // The star at ~580 tets (its floor for 300) for two steps of 1/30 s: a second or two per row.
-std::string star_grid(const std::string& rows) {
-  return "config: " + kStar +
+std::string star_grid(const std::string& rows, const std::string& config = kStar) {
+  return "config: " + config +
          "\n"
          "verb: simulate\n"
          "set: {mesh.target_tets: 300, time.duration: 0.0667}\n"
@@ -160,6 +160,36 @@ TEST_F(CliSweep, FourStarRowsWithOneBadOverrideResumeAndMerge) {
       write_file("changed.yaml", star_grid("product: {time.duration: [0.1]}\n"));
   expect_failure("sweep --grid=" + changed + " --out=" + path("out"),
                  "holds a run of other settings");
+}
+
+// The review's case: a finished row of a config edited since (the star's velocity) was skipped as
+// finished, its results standing for the new velocity. The marker keeps the config's fingerprint:
+// an edit is refused as other settings, a comment is not an edit.
+TEST_F(CliSweep, AFinishedRowOfAnEditedConfigIsNotTakenAsFinished) {
+  const std::string star = path("star.yaml");
+  std::filesystem::copy_file(kStar, star);
+  const std::string original = slurp(star);
+  const std::string grid =
+      write_file("grid.yaml", star_grid("rows: [{time.step: 0.0333}]\n", star));
+  const std::string args = "sweep --grid=" + grid + " --out=" + path("out");
+  const Result first = run(args);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const std::string results = slurp(path("out/results.csv"));
+
+  std::string slower = original;
+  const std::string velocity = "velocity: [0, -10, -10]";
+  ASSERT_NE(slower.find(velocity), std::string::npos);
+  slower.replace(slower.find(velocity), velocity.size(), "velocity: [0, -5, -5]");
+  write_file("star.yaml", slower);
+  expect_failure(args, "row-000 holds a run of other settings than " + grid + "'s row 0: " + star +
+                           " or a file it builds on changed since (config fingerprint ");
+  EXPECT_EQ(slurp(path("out/results.csv")), results);
+
+  write_file("star.yaml", "# the same star, annotated\n" + original);
+  const Result again = run(args);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("1 row: 0 ok, 1 skipped (finished earlier)"), std::string::npos)
+      << again.err;
 }
 
 TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {

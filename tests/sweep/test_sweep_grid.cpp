@@ -10,6 +10,9 @@
 #include <sstream>
 
 #include "rbaa/error.hpp"
+#include "rbaa/scene/scene.hpp"
+#include "rbaa/scene/scene_fingerprint.hpp"
+#include "rbaa/sweep/config_fingerprint.hpp"
 #include "rbaa/sweep/slurm_script.hpp"
 #include "rbaa/sweep/sweep_grid.hpp"
 #include "rbaa/sweep/sweep_results.hpp"
@@ -187,7 +190,9 @@ TEST_F(SweepFiles, ResultsTableHasEveryRowWithStatusFiguresAndErrors) {
   const auto g =
       parse("config: star.yaml\nverb: simulate\nproduct: {time.duration: [0.1, 0.2, 0.3]}\n");
   const std::string out = dir_.string();
-  rbaa::RowOutcome ok{0, rbaa::RowStatus::kOk, rbaa::row_arguments(g, g.rows[0]), "", 0, 1.5};
+  const std::string config = rbaa::config_fingerprint(g);
+  rbaa::RowOutcome ok{0,     rbaa::RowStatus::kOk, rbaa::row_arguments(g, g.rows[0]), "", 0, 1.5,
+                      config};
   rbaa::write_row_outcome(out + "/row-000", ok);
   std::ofstream(out + "/row-000/report.json")
       << R"({"steps": 3, "newton": {"total_iterations": 12, "max_iterations_in_a_step": 5},
@@ -197,7 +202,8 @@ TEST_F(SweepFiles, ResultsTableHasEveryRowWithStatusFiguresAndErrors) {
                        rbaa::row_arguments(g, g.rows[1]),
                        "rbaa simulate: error: a, \"b\" [exit code 2]",
                        2,
-                       0.5};
+                       0.5,
+                       config};
   rbaa::write_row_outcome(out + "/row-001", bad);
   const auto outcomes = rbaa::read_sweep_outcomes(g, out);
   ASSERT_EQ(outcomes.size(), 3u);
@@ -225,6 +231,65 @@ TEST_F(SweepFiles, ResultsTableHasEveryRowWithStatusFiguresAndErrors) {
               std::string::npos)
         << e.what();
   }
+}
+
+// A row's arguments name the config by its path; its contents, its base's and its meshes' enter
+// by the fingerprint its marker keeps, so a finished row of an edited config is not taken for the
+// grid's row. The evaluation's duration, which the attack's scene_fingerprint leaves out, counts;
+// comments do not.
+TEST_F(SweepFiles, AnEditedConfigOrBaseIsAnotherRowButACommentIsNot) {
+  const fs::path star = dir_ / "star.yaml", child = dir_ / "child.yaml";
+  fs::copy_file(kConfigs + "/star.yaml", star);
+  std::ofstream(child) << "base: star.yaml\ntime: {duration: 0.1}\n";
+  const auto g = rbaa::parse_sweep_grid(
+      "config: child.yaml\nverb: evaluate\nset: {mesh.target_tets: 300}\n"
+      "product: {attack.seed: [1, 2]}\n",
+      "grid.yaml", dir_.string());
+  const std::string before = rbaa::config_fingerprint(g);
+  EXPECT_EQ(before.size(), 16u);
+  EXPECT_NE(rbaa::config_fingerprint_text(g).find("scene "), std::string::npos);
+  const std::string scene_before = rbaa::scene_fingerprint(rbaa::load_scene(child.string()));
+  const std::string out = (dir_ / "out").string();
+  rbaa::RowOutcome ok{0,     rbaa::RowStatus::kOk, rbaa::row_arguments(g, g.rows[0]), "", 0, 1.0,
+                      before};
+  rbaa::write_row_outcome(out + "/row-000", ok);
+  EXPECT_EQ(rbaa::read_sweep_outcomes(g, out)[1].config_fingerprint, before);
+
+  auto star_text = [&] {
+    std::ifstream in(star);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  const std::string original = star_text();
+  std::ofstream(star) << "# annotated\n" << original;
+  EXPECT_EQ(rbaa::config_fingerprint(g), before);
+  EXPECT_EQ(rbaa::read_sweep_outcomes(g, out)[0].status, rbaa::RowStatus::kOk);
+
+  std::string edited = original;
+  const std::string from = "  duration: 1.2\n";
+  ASSERT_NE(edited.find(from), std::string::npos);
+  edited.replace(edited.find(from), from.size(), "  duration: 2.4\n");
+  std::ofstream(star) << edited;
+  EXPECT_EQ(rbaa::scene_fingerprint(rbaa::load_scene(child.string())), scene_before);
+  EXPECT_NE(rbaa::config_fingerprint(g), before);
+  try {
+    rbaa::read_sweep_outcomes(g, out);
+    FAIL() << "expected an error";
+  } catch (const rbaa::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(out + "/row-000 holds a run of other settings than " +
+                                              "grid.yaml's row 0: " + g.config +
+                                              " or a file it builds on changed since (config "
+                                              "fingerprint " +
+                                              before + ", now ",
+                                          0),
+              0u)
+        << e.what();
+  }
+  // A marker written before the sweep kept fingerprints cannot be checked: taken as it is.
+  ok.config_fingerprint.clear();
+  rbaa::write_row_outcome(out + "/row-000", ok);
+  EXPECT_EQ(rbaa::read_sweep_outcomes(g, out)[0].status, rbaa::RowStatus::kOk);
 }
 
 // A swept key's cell is the value the row ran with: its own, else the grid's set: value.

@@ -1,8 +1,9 @@
 #pragma once
 // One row of a sweep on disk and as a process: its folder DIR/row-NNN holds the verb's outputs,
 // log.txt (the row's stdout and stderr) and sweep_row.json, the row's marker: its arguments and
-// status, written atomically when the row starts and when it ends. A row whose marker says "ok"
-// with the same arguments is finished and is skipped when the sweep runs again.
+// status and the config's fingerprint (config_fingerprint.hpp), written atomically when the row
+// starts and when it ends. A row whose marker says "ok" with the same arguments and fingerprint is
+// finished and is skipped when the sweep runs again.
 
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct RowOutcome {
   std::string error;                   ///< one line, for a failed row
   int exit_code = 0;
   double seconds = 0;  ///< wall time of the row's process
+  /// config_fingerprint of the grid when the row started; "" in markers written before the
+  /// sweep kept one (those cannot be checked).
+  std::string config_fingerprint;
 };
 
 /// The marker in `row_dir`; status kPending when there is none. Throws InputError naming the file
