@@ -151,7 +151,8 @@ int run_sweep_verb() {
     std::string what;
     if (p.started >= 0) {
       what = "row " + std::to_string(p.started) + " started (" +
-             overrides_text(grid.rows[p.started]) + ")";
+             overrides_text(grid.rows[p.started]) + (p.resumed ? "; resuming its checkpoint" : "") +
+             ")";
     } else if (p.ended) {
       what = "row " + std::to_string(p.ended->index) + " " + rbaa::status_name(p.ended->status) +
              " in " + duration_text(p.ended->seconds);
@@ -191,7 +192,8 @@ RBAA_REGISTER_VERB(
         "per\n"
         "row: the swept values, status, report.json's headline figures, seconds, error. Running "
         "again\n"
-        "skips finished rows and re-runs failed ones; a failed row does not stop the others.\n"
+        "skips finished rows and re-runs failed ones (an attack row with a checkpoint.json\n"
+        "goes on from it: --resume); a failed row does not stop the others.\n"
         "A row of other settings in DIR (the grid, or the config or a file it builds on,\n"
         "edited since) is refused: use another --out. Exit code 0 when every row is ok, 1 when\n"
         "one failed, 2 on bad input.\n"

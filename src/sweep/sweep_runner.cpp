@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -25,6 +26,20 @@ double seconds_between(Clock::time_point a, Clock::time_point b) {
 }
 
 }  // namespace
+
+std::vector<std::string> row_process_arguments(const SweepGrid& grid,
+                                               const std::vector<std::string>& arguments,
+                                               const std::string& row_dir) {
+  std::vector<std::string> argv = arguments;
+  const bool own_resume = std::any_of(grid.flags.begin(), grid.flags.end(),
+                                      [](const SweepFlag& f) { return f.name == "resume"; });
+  // The name rbaa attack writes after every iteration (attack.cpp, attack_loop_options); it
+  // refuses a checkpoint of other settings itself, naming both fingerprints.
+  if (grid.verb == "attack" && !own_resume && fs::exists(fs::path(row_dir) / "checkpoint.json")) {
+    argv.push_back("--resume");
+  }
+  return argv;
+}
 
 SweepSummary run_sweep(const SweepGrid& grid, const SweepOptions& options,
                        const std::function<void(const SweepProgress&)>& on_progress) {
@@ -84,10 +99,12 @@ SweepSummary run_sweep(const SweepGrid& grid, const SweepOptions& options,
       o.exit_code = 0;
       o.seconds = 0;
       write_row_outcome(dir, o);
-      const int pid =
-          start_row_process(options.executable, o.arguments, dir, options.split.threads);
+      const auto argv = row_process_arguments(grid, o.arguments, dir);
+      const int pid = start_row_process(options.executable, argv, dir, options.split.threads);
       running[pid] = {index, Clock::now()};
+      progress.resumed = argv.size() > o.arguments.size();
       report(nullptr, index);
+      progress.resumed = false;
     }
     int status = 0;
     const pid_t pid = ::waitpid(-1, &status, 0);

@@ -192,6 +192,52 @@ TEST_F(CliSweep, AFinishedRowOfAnEditedConfigIsNotTakenAsFinished) {
       << again.err;
 }
 
+// An attack row interrupted after some iterations (its marker left "running", its checkpoint
+// written) continues from the checkpoint when the sweep runs again, instead of starting over and
+// overwriting it, and ends where an uninterrupted row ends. The tiny ball: ~0.6 s an attack.
+TEST_F(CliSweep, AnInterruptedAttackRowContinuesFromItsCheckpoint) {
+  const std::string ball = write_file("ball.yaml", rbaa_cli_test::kTinyBall);
+  const std::string grid = write_file(
+      "grid.yaml", "config: " + ball +
+                       "\nverb: attack\nset: {attack.iterations: 4}\nrows: [{attack.seed: 2}]\n");
+  const std::string args = "sweep --grid=" + grid + " --out=" + path("out");
+  const Result straight = run(args);
+  ASSERT_EQ(straight.exit_code, 0) << straight.err;
+  const nlohmann::json uninterrupted = report("out", 0);
+
+  // The row as a killed sweep leaves it after 2 of its 4 iterations: the same scene's checkpoint
+  // (the attack's fingerprint leaves out the iteration count), no report, marker "running".
+  const Result half =
+      run("attack --config=" + ball +
+          " --set='attack.iterations=4;attack.seed=2' --iterations=2 --out=" + path("half"));
+  ASSERT_EQ(half.exit_code, 0) << half.err;
+  fs::copy_file(path("half/checkpoint.json"), path("out/row-000/checkpoint.json"),
+                fs::copy_options::overwrite_existing);
+  fs::remove(path("out/row-000/report.json"));
+  nlohmann::json marker = nlohmann::json::parse(slurp(path("out/row-000/sweep_row.json")));
+  const auto arguments = marker["arguments"];
+  marker["status"] = "running";
+  write_file("out/row-000/sweep_row.json", marker.dump(2));
+
+  const Result resumed = run(args);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.err.find("row 0 started (attack.seed=2; resuming its checkpoint)"),
+            std::string::npos)
+      << resumed.err;
+  const std::string log = slurp(path("out/row-000/log.txt"));
+  EXPECT_EQ(log.find("iter    1/4"), std::string::npos) << log;
+  EXPECT_EQ(log.find("iter    2/4"), std::string::npos) << log;
+  EXPECT_NE(log.find("iter    3/4"), std::string::npos) << log;
+  EXPECT_EQ(report("out", 0)["iterations"], 4);
+  EXPECT_EQ(report("out", 0)["gap"], uninterrupted["gap"]);
+  // The marker keeps the grid's arguments, without --resume: the next run skips the row.
+  EXPECT_EQ(nlohmann::json::parse(slurp(path("out/row-000/sweep_row.json")))["arguments"],
+            arguments);
+  const Result again = run(args);
+  EXPECT_NE(again.err.find("1 row: 0 ok, 1 skipped (finished earlier)"), std::string::npos)
+      << again.err;
+}
+
 TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {
   const std::string head = "config: " + kStar + "\nverb: simulate\n";
   auto fails = [&](const std::string& name, const std::string& text, const std::string& message) {

@@ -16,6 +16,7 @@
 #include "rbaa/sweep/slurm_script.hpp"
 #include "rbaa/sweep/sweep_grid.hpp"
 #include "rbaa/sweep/sweep_results.hpp"
+#include "rbaa/sweep/sweep_runner.hpp"
 #include "rbaa/sweep/thread_split.hpp"
 
 namespace {
@@ -305,6 +306,28 @@ TEST_F(SweepFiles, ResultsTableFillsASweptKeyFromSetWhereTheRowHasNone) {
             "row,status,a.b,c.d,seconds,error,folder\n"
             "0,pending,1,,,,row-000\n"
             "1,pending,5,2,,,row-001\n");
+}
+
+// An attack row whose folder holds the attack's checkpoint continues from it (--resume on the
+// process's command line only); other verbs, and attack rows without one, start afresh.
+TEST_F(SweepFiles, AnAttackRowWithACheckpointResumesIt) {
+  const auto attack = parse("config: star.yaml\nverb: attack\nproduct: {attack.seed: [1]}\n");
+  const auto args = rbaa::row_arguments(attack, attack.rows[0]);
+  const std::string row = (dir_ / "row-000").string();
+  EXPECT_EQ(rbaa::row_process_arguments(attack, args, row), args);
+  fs::create_directories(row);
+  std::ofstream(row + "/checkpoint.json") << "{}\n";
+  auto resumed = args;
+  resumed.push_back("--resume");
+  EXPECT_EQ(rbaa::row_process_arguments(attack, args, row), resumed);
+  // The grid's own --resume is not given twice.
+  const auto own = parse(
+      "config: star.yaml\nverb: attack\nflags: {resume: true}\nproduct: {attack.seed: [1]}\n");
+  const auto own_args = rbaa::row_arguments(own, own.rows[0]);
+  EXPECT_EQ(rbaa::row_process_arguments(own, own_args, row), own_args);
+  const auto simulate = parse("config: star.yaml\nverb: simulate\nproduct: {time.step: [0.01]}\n");
+  const auto simulate_args = rbaa::row_arguments(simulate, simulate.rows[0]);
+  EXPECT_EQ(rbaa::row_process_arguments(simulate, simulate_args, row), simulate_args);
 }
 
 TEST_F(SweepFiles, SlurmArrayHasOneTaskPerRowAndAMergeAfterIt) {

@@ -1,10 +1,12 @@
 #pragma once
 // Runs a sweep's rows on this machine: a pool of at most `jobs` child processes of the rbaa
 // program, one per row, each in its own folder (sweep_row.hpp). Finished rows are skipped
-// (resume); a failed row is recorded and the others go on. Progress goes through a callback.
+// (resume); a failed row is recorded and the others go on, and an attack row that was interrupted
+// or failed continues from its checkpoint. Progress goes through a callback.
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "rbaa/sweep/sweep_grid.hpp"
 #include "rbaa/sweep/sweep_row.hpp"
@@ -29,12 +31,22 @@ struct SweepProgress {
   double eta_seconds = -1;            ///< estimate from this run's rows; < 0 before one ends
   const RowOutcome* ended = nullptr;  ///< the row that just ended, or nullptr
   int started = -1;                   ///< the row that just started, or -1
+  bool resumed = false;               ///< the started row continues its checkpoint (--resume)
 };
 
 struct SweepSummary {
   int total = 0, ok = 0, skipped = 0, failed = 0;
   double seconds = 0;
 };
+
+/// The command line of a row's process: its `arguments` (row_arguments), and --resume when the
+/// verb is attack and row_dir holds the attack's checkpoint.json (the row was interrupted or
+/// failed after some iterations: without it the attack would start over and overwrite them),
+/// unless the grid's flags set --resume themselves. The marker keeps `arguments` alone, so resume
+/// compares the same settings.
+std::vector<std::string> row_process_arguments(const SweepGrid& grid,
+                                               const std::vector<std::string>& arguments,
+                                               const std::string& row_dir);
 
 /// Runs the rows (all, or only_row) and, for a whole sweep, rewrites DIR/results.csv after every
 /// row that ends. Throws InputError when DIR holds rows of another grid (read_sweep_outcomes).
