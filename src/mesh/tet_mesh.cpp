@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "rbaa/error.hpp"
+#include "rbaa/mesh/topology.hpp"
 
 namespace rbaa {
 
@@ -68,6 +69,7 @@ void validate_tet_mesh(const TetMesh& mesh, const std::string& source,
       throw InputError(msg.str());
     }
   }
+  validate_tet_faces(mesh, source);
 }
 
 int orient_tets_positively(TetMesh& mesh) {

@@ -59,6 +59,39 @@ Tets face_adjacency(const TetMesh& mesh) {
   return adj;
 }
 
+void validate_tet_faces(const TetMesh& mesh, const std::string& source) {
+  const std::vector<FaceRecord> faces = sorted_faces(mesh);
+  auto oriented = [&](const FaceRecord& f) {
+    return std::array<int, 3>{mesh.T(f.element, kFace[f.local][0]),
+                              mesh.T(f.element, kFace[f.local][1]),
+                              mesh.T(f.element, kFace[f.local][2])};
+  };
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    std::ostringstream msg;
+    msg << source << ": face (" << faces[i].key[0] << ", " << faces[i].key[1] << ", "
+        << faces[i].key[2] << ") ";
+    if (j - i > 2) {
+      msg << "is shared by " << (j - i) << " tetrahedra (tets " << faces[i].element << ", "
+          << faces[i + 1].element << ", " << faces[i + 2].element << ")";
+      throw InputError(msg.str());
+    }
+    if (j - i == 2) {
+      // Outward from both tets: the two copies run in opposite senses when the tets lie on
+      // opposite sides. The same sense puts both on one side: they overlap (or repeat).
+      const std::array<int, 3> a = oriented(faces[i]), b = oriented(faces[i + 1]);
+      const int r = static_cast<int>(std::find(b.begin(), b.end(), a[0]) - b.begin());
+      if (b[(r + 1) % 3] == a[1]) {
+        msg << "has tets " << faces[i].element << " and " << faces[i + 1].element
+            << " on the same side: they overlap";
+        throw InputError(msg.str());
+      }
+    }
+    i = j;
+  }
+}
+
 Faces boundary_faces(const TetMesh& mesh) {
   const Tets adj = face_adjacency(mesh);
   std::vector<std::array<int, 3>> out;

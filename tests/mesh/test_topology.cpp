@@ -96,6 +96,48 @@ TEST(TetMesh, ValidationNamesTheFault) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("vertex 99"), std::string::npos) << e.what();
   }
+  // A tet given twice (its moments would count twice: m0 7/6 of the cube's) and a tet on the
+  // same side of a face as its neighbour (the cube's tet 0 mirrored through one of its faces
+  // would be the neighbour; through the face's plane but kept on its side it overlaps tet 0).
+  TetMesh repeated = mesh;
+  repeated.T.conservativeResize(mesh.num_tets() + 1, 4);
+  repeated.T.row(mesh.num_tets()) = mesh.T.row(0);
+  try {
+    validate_tet_mesh(repeated, "repeated.ele");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("repeated.ele: face ("), std::string::npos) << what;
+    EXPECT_NE(what.find("has tets 0 and " + std::to_string(mesh.num_tets()) +
+                        " on the same side: they overlap"),
+              std::string::npos)
+        << what;
+  }
+  TetMesh on_one_side;
+  on_one_side.V.resize(5, 3);
+  on_one_side.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0.2, 0.2, 2;
+  on_one_side.T.resize(2, 4);
+  on_one_side.T << 0, 1, 2, 3, 0, 1, 2, 4;  // both above the face (0, 1, 2)
+  EXPECT_GT(tet_volumes(on_one_side).minCoeff(), 0);
+  EXPECT_THROW(validate_tet_mesh(on_one_side, "overlap.msh"), InputError);
+  on_one_side.V(4, 2) = -2;  // below it: neighbours
+  on_one_side.T.row(1) << 0, 2, 1, 4;
+  EXPECT_GT(tet_volumes(on_one_side).minCoeff(), 0);
+  EXPECT_NO_THROW(validate_tet_mesh(on_one_side, "neighbours.msh"));
+  // Three tets on one face.
+  TetMesh three;
+  three.V.resize(6, 3);
+  three.V << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, -1, 0.1, 0.1, 2;
+  three.T.resize(3, 4);
+  three.T << 0, 1, 2, 3, 0, 2, 1, 4, 0, 1, 2, 5;
+  try {
+    validate_tet_mesh(three, "three.msh");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("three.msh: face (0, 1, 2) is shared by 3 tetrahedra"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(TetMesh, RestShapeInvertsEdgeMatrices) {

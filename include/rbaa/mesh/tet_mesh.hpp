@@ -63,7 +63,8 @@ Eigen::VectorXd tet_volumes(const TetMesh& mesh);
 
 /// Throws rbaa::InputError naming `source` and the first fault: indices out of range, unused
 /// vertices, non-finite coordinates, inverted or degenerate tets (|volume| below
-/// `relative_volume_tolerance` times the mean volume).
+/// `relative_volume_tolerance` times the mean volume), tets that repeat or overlap across a face
+/// (validate_tet_faces).
 void validate_tet_mesh(const TetMesh& mesh, const std::string& source,
                        double relative_volume_tolerance = 1e-12);
 

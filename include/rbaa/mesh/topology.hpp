@@ -2,6 +2,7 @@
 // Combinatorial structure of a tet mesh: its boundary surface, which elements and vertices touch
 // it, and face adjacency between elements (the dual graph used by connectivity repair).
 
+#include <string>
 #include <vector>
 
 #include "rbaa/mesh/tet_mesh.hpp"
@@ -22,6 +23,11 @@ std::vector<char> boundary_elements(const TetMesh& mesh, bool by_vertex = false)
 /// of element e, or -1 on the boundary. Throws rbaa::InputError if a face is shared by more
 /// than two tets (non-manifold).
 Tets face_adjacency(const TetMesh& mesh);
+
+/// Throws rbaa::InputError naming `source` and the face unless every face is shared by at most
+/// two tets lying on its opposite sides (tets positively oriented): a repeated tet, or two on one
+/// side of a face, overlap and would count their volume twice.
+void validate_tet_faces(const TetMesh& mesh, const std::string& source);
 
 /// Face-connected component label of every flagged element (-1 for the others), numbered in
 /// order of their smallest element, given the face adjacency `adj`; returns how many there are.
