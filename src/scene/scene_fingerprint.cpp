@@ -12,21 +12,6 @@ namespace rbaa {
 
 namespace {
 
-std::uint64_t fnv1a(const std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-
-std::string hex(std::uint64_t h) {
-  std::ostringstream out;
-  out << std::hex << std::setw(16) << std::setfill('0') << h;
-  return out.str();
-}
-
 // Exact and locale-free: every bit of the double, "nan" for the unset initial materials.
 std::string number(double x) {
   char buffer[64];
@@ -45,7 +30,7 @@ std::string file_content(const std::string& path) {
   if (!in) return "unreadable " + path;  // loading the scene reports it
   std::stringstream bytes;
   bytes << in.rdbuf();
-  return hex(fnv1a(bytes.str()));
+  return fingerprint_hex(bytes.str());
 }
 
 // A drive's line; only driven bodies print one, so older fingerprints stay valid.
@@ -170,6 +155,19 @@ std::string scene_fingerprint_text(const Scene& s) {
   return t.str();
 }
 
-std::string scene_fingerprint(const Scene& scene) { return hex(fnv1a(scene_fingerprint_text(scene))); }
+std::string fingerprint_hex(const std::string& bytes) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  std::ostringstream out;
+  out << std::hex << std::setw(16) << std::setfill('0') << h;
+  return out.str();
+}
+
+std::string scene_fingerprint(const Scene& scene) {
+  return fingerprint_hex(scene_fingerprint_text(scene));
+}
 
 }  // namespace rbaa

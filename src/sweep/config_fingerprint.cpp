@@ -2,11 +2,9 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <set>
 #include <sstream>
 #include <system_error>
@@ -19,18 +17,6 @@ namespace rbaa {
 namespace {
 
 namespace fs = std::filesystem;
-
-// FNV-1a, 64 bit, as scene_fingerprint: markers outlive builds, so no std::hash.
-std::string fnv1a_hex(const std::string& bytes) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  std::ostringstream out;
-  out << std::hex << std::setw(16) << std::setfill('0') << h;
-  return out.str();
-}
 
 // One line per file of the config's `base:` chain, the config's first. A base resolves against
 // the folder of the file that names it, as the scene's loader does (scene.cpp, with_base); a
@@ -50,10 +36,10 @@ void add_documents(const fs::path& file, std::set<std::string>& seen, std::ostre
   try {
     doc = YAML::Load(bytes.str());
   } catch (const YAML::Exception&) {
-    text << "file bytes " << fnv1a_hex(bytes.str()) << "\n";
+    text << "file bytes " << fingerprint_hex(bytes.str()) << "\n";
     return;
   }
-  text << "file yaml " << fnv1a_hex(YAML::Dump(doc)) << "\n";
+  text << "file yaml " << fingerprint_hex(YAML::Dump(doc)) << "\n";
   if (doc.IsMap() && doc["base"] && doc["base"].IsScalar() && !doc["base"].Scalar().empty()) {
     fs::path base(doc["base"].Scalar());
     if (base.is_relative()) base = file.parent_path() / base;
@@ -79,7 +65,7 @@ std::string config_fingerprint_text(const SweepGrid& grid) {
 }
 
 std::string config_fingerprint(const SweepGrid& grid) {
-  return fnv1a_hex(config_fingerprint_text(grid));
+  return fingerprint_hex(config_fingerprint_text(grid));
 }
 
 }  // namespace rbaa

@@ -17,6 +17,10 @@ namespace rbaa {
 /// 16 hex digits (FNV-1a, 64 bit) over a canonical text of the result-changing settings.
 std::string scene_fingerprint(const Scene& scene);
 
+/// 16 hex digits of FNV-1a (64 bit) over `bytes`: the hash of every fingerprint (stable across
+/// builds and machines, unlike std::hash, since checkpoints and sweep markers outlive builds).
+std::string fingerprint_hex(const std::string& bytes);
+
 /// The canonical text itself (one "key value" line per setting, doubles as hex floats), for
 /// diagnosis and tests.
 std::string scene_fingerprint_text(const Scene& scene);
