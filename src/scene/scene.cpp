@@ -801,7 +801,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& source_name,
              "best_uniform chooses Y0 and nu0 itself (remove attack.Y0 and attack.nu0, or use "
              "start: given)");
     }
-    s.smoothing_gamma = a.number("smoothing_gamma", s.smoothing_gamma, 0.0, inf);
+    // Open at 0: the smoother's K = Mt - gamma Lt needs gamma > 0 (GradientSmoother refuses 0,
+    // after the reference run), and "gamma -> 0" (SPEC section 4) is a limit, not a setting.
+    s.smoothing_gamma = a.number("smoothing_gamma", s.smoothing_gamma, 0.0, inf, true);
     s.boundary_by_vertex = a.text("boundary", "faces", {"faces", "vertices"}) == "vertices";
     s.round_threshold = a.number("round_threshold", s.round_threshold, 0.0, 1.0, true, true);
     if (s.round_threshold <= s.alpha_min) {

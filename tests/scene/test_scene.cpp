@@ -264,6 +264,7 @@ TEST(Scene, BadInputNamesFileLineAndKey) {
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: -1}\n", {"attack.polish_iterations"});
   expect_error(std::string(kMinimal) + "attack: {polish_iterations: 2.5}\n", {"attack.polish_iterations", "whole number"});
   expect_error(std::string(kMinimal) + "attack: {refinement_factor: -2}\n", {"attack.refinement_factor"});
+  expect_error(std::string(kMinimal) + "attack: {smoothing_gamma: 0}\n", {"attack.smoothing_gamma", "outside (0"});
   // The occupancy penalty: a weight and a ramp, each named in its one-line error.
   expect_error(std::string(kMinimal) + "attack: {occupancy_penalty: {weight: -1}}\n",
                {"attack.occupancy_penalty.weight", "outside"});
