@@ -34,6 +34,12 @@ TEST(TanhBoxMap, ValueDerivativeInverse) {
   }
   std::printf("tanh map: max relative error of dx/dtheta against central differences %.2e\n", worst);
   EXPECT_LT(worst, 1e-8);
+  // Deep in saturation dx/dtheta = (hi - lo) / (2 cosh^2) = 2 (hi - lo) e^(-2 |theta|) (1 + O(e^-34))
+  // at |theta| = 17; 1 - tanh^2 there has lost all but two or three digits (4e-3 off).
+  for (double theta : {-17.0, 17.0}) {
+    EXPECT_NEAR(map.derivative(theta) / (2 * (11300.0 - 800.0) * std::exp(-34.0)), 1.0, 1e-13)
+        << theta;
+  }
   EXPECT_THROW(map.inverse(800.0), InputError);
   EXPECT_THROW(map.inverse(11300.0), InputError);
   EXPECT_THROW(map.inverse(std::nan("")), InputError);

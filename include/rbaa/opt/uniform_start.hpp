@@ -1,8 +1,10 @@
 #pragma once
 // The best uniform start (issue 20 item 3, attack.start: best_uniform): before the loop, the
 // attacked body A is simulated uniform at a handful of materials within the bounds, each scored by
-// the attack's own objective, and the attack starts from the best one, so that (with the loop
-// keeping its best iterate) it can only improve on it.
+// the attack's own objective, and the attack starts from the best one. The loop starts from that
+// candidate perturbed (attack.seed's N(0, 0.1^2) in theta) and retracted onto the moments, and
+// keeps its best iterate: it never ends below its first, perturbed design, which is not the
+// candidate itself (README says the same).
 //
 // Candidates: Y and nu each at the low end, the middle and the high end of their ranges, the ends
 // 1e-6 of the range inside (the tanh map reaches a bound only at infinity), 3 x 3 in all. Each
