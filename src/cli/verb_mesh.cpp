@@ -3,7 +3,11 @@
 #include <gflags/gflags.h>
 
 #include <chrono>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
+#include <string>
+#include <utility>
 
 #include "rbaa/cli/verb.hpp"
 #include "rbaa/error.hpp"
@@ -14,11 +18,41 @@ DEFINE_string(shape, "", "reference shape: sphere, cube, star, bat or bunny (SPE
 DEFINE_string(surface, "", "closed surface file to tetrahedralise (.off, .obj, .stl, .ply)");
 DEFINE_int32(target_tets, 0, "wanted number of tets (0: the paper's count for --shape, 5000 for --surface)");
 DECLARE_string(out);
-DEFINE_double(radius, 0, "sphere radius in m (0: 0.121)");
-DEFINE_double(side, 0, "cube side in m (0: 0.05)");
-DEFINE_double(volume, 0, "with --surface: scale the tet mesh to this volume (m^3) and centre it (0: keep)");
+DEFINE_double(radius, 0, "with --shape=sphere: its radius in m (not given: 0.121)");
+DEFINE_double(side, 0, "with --shape=cube: its side in m (not given: 0.05)");
+DEFINE_double(
+    volume, 0,
+    "with --surface: scale the tet mesh to this volume (m^3) and centre it (not given: keep)");
 
 namespace {
+
+/// The size flags (--radius, --side, --volume) each belong to one input, and the library reads a
+/// value <= 0 as "the default": a size given for another shape, or a non-positive one, would be
+/// dropped without a word and another object meshed than the one asked for. A flag counts as
+/// given when gflags marks it so (on the command line or in a --flagfile), even at the default's
+/// value 0. Non-finite numbers are already refused in main() with every verb's flags.
+void check_size_flags() {
+  // The size flag the chosen input reads, if any.
+  const std::string used = !FLAGS_surface.empty()    ? "volume"
+                           : FLAGS_shape == "sphere" ? "radius"
+                           : FLAGS_shape == "cube"   ? "side"
+                                                     : "";
+  const std::string input = FLAGS_surface.empty() ? "--shape=" + FLAGS_shape : "--surface";
+  const std::pair<const char*, double> sizes[] = {
+      {"radius", FLAGS_radius}, {"side", FLAGS_side}, {"volume", FLAGS_volume}};
+  for (const auto& [name, value] : sizes) {
+    if (gflags::GetCommandLineFlagInfoOrDie(name).is_default) continue;
+    // gflags' current_value prints 17 digits (0.10000000000000001); the user typed fewer.
+    std::ostringstream given;
+    given << "--" << name << "=" << std::setprecision(12) << value;
+    if (name != used) {
+      throw rbaa::InputError(given.str() + ": " + input + " has no " + name +
+                             " (--radius is --shape=sphere's, --side --shape=cube's, --volume "
+                             "--surface's)");
+    }
+    if (!(value > 0)) throw rbaa::InputError(given.str() + ": must be positive");
+  }
+}
 
 int run_mesh() {
   if (FLAGS_shape.empty() == FLAGS_surface.empty()) {
@@ -26,6 +60,9 @@ int run_mesh() {
   }
   if (FLAGS_out.empty()) throw rbaa::InputError("--out is required");
   if (FLAGS_target_tets < 0) throw rbaa::InputError("--target_tets must be positive");
+  // An unknown shape is the error to report, not the size flags it cannot have.
+  if (!FLAGS_shape.empty()) rbaa::default_tet_count(FLAGS_shape);
+  check_size_flags();
   const auto start = std::chrono::steady_clock::now();
   rbaa::TetMesh mesh;
   rbaa::MeshingOutcome outcome;
@@ -57,7 +94,8 @@ int run_mesh() {
 
 RBAA_REGISTER_VERB(mesh, rbaa::cli::Verb{
     "mesh", "tetrahedralise a reference shape or a closed surface (CGAL Mesh_3)",
-    "rbaa mesh --shape=sphere|cube|star|bat|bunny | --surface=FILE [--target_tets=N] --out=FILE\n\n"
+    "rbaa mesh --shape=sphere|cube|star|bat|bunny | --surface=FILE [--target_tets=N] --out=FILE\n"
+    "          [--radius=M (sphere) | --side=M (cube) | --volume=M3 (surface)]\n\n"
     "Meshes deterministically (sequential CGAL, fixed seed): the same command writes the same file.\n"
     "The cell size is searched until the tet count is within 5% of --target_tets; a surface's\n"
     "detail can set a floor (sharp edges keep small elements), and then the count closest to\n"

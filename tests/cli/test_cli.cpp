@@ -5,11 +5,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <sys/wait.h>
@@ -17,6 +19,7 @@
 
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
+#include "rbaa/mesh/tet_mesh.hpp"
 
 #include "cli/cli_fixture.hpp"
 
@@ -102,6 +105,45 @@ TEST_F(Cli, BadInputGivesOneLineErrors) {
   std::ofstream(path("open.off")) << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   expect_failure("mesh --surface=" + path("open.off") + " --out=" + path("t.msh"), "open.off");
   expect_failure("frobnicate", "unknown verb 'frobnicate'");
+}
+
+// The mesher reads a size <= 0 as "the default", and each size flag belongs to one input: before
+// the check, --shape=sphere --radius=-1 meshed the 0.121 m sphere, --shape=cube --radius=0.5
+// --volume=3 the 0.05 m cube, --surface --volume=-1 the surface unscaled, all with exit 0. Each is
+// refused with exit 2 and nothing written; a size given to its own input is kept.
+TEST_F(Cli, MeshRefusesASizeItsShapeDoesNotReadOrThatIsNotPositive) {
+  const std::string surface = write_file(
+      "cube.off",
+      "OFF\n8 12 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n3 0 2 1\n3 0 3 2\n"
+      "3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n");
+  std::ofstream(path("flags.txt")) << "--radius=-0.2\n";
+  const std::string out = " --target_tets=200 --out=" + path("t.msh");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--shape=sphere --radius=-1", "--radius=-1: must be positive"},
+      {"--shape=sphere --radius=0", "--radius=0: must be positive"},
+      {"--shape=sphere --flagfile=" + path("flags.txt"), "--radius=-0.2: must be positive"},
+      {"--shape=cube --side=0", "--side=0: must be positive"},
+      {"--surface=" + surface + " --volume=-1", "--volume=-1: must be positive"},
+      {"--shape=cube --radius=0.5 --volume=3", "--radius=0.5: --shape=cube has no radius"},
+      {"--shape=sphere --side=0.1", "--side=0.1: --shape=sphere has no side"},
+      {"--shape=star --volume=2", "--volume=2: --shape=star has no volume"},
+      {"--surface=" + surface + " --radius=0.1", "--radius=0.1: --surface has no radius"},
+      {"--shape=sphere --radius=inf", "--radius=inf: expected a finite number"},
+      {"--shape=torus --radius=1", "unknown shape 'torus'"},
+  };
+  for (const auto& [args, fragment] : cases) {
+    std::filesystem::remove(path("t.msh"));
+    expect_failure("mesh " + args + out, fragment);
+    EXPECT_EQ(run("mesh " + args + out).exit_code, 2) << args;
+    EXPECT_FALSE(std::filesystem::exists(path("t.msh"))) << args;
+  }
+  // A size given to its own input is used: the 0.05 m sphere (a polyhedron inside it) and the
+  // unit cube scaled to 3 m^3.
+  ASSERT_EQ(run("mesh --shape=sphere --radius=0.05" + out).exit_code, 0);
+  const double ball = rbaa::tet_volumes(rbaa::read_tet_mesh(path("t.msh")).mesh).sum();
+  EXPECT_NEAR(ball / (4.0 / 3.0 * M_PI * 0.05 * 0.05 * 0.05), 1.0, 0.15);
+  ASSERT_EQ(run("mesh --surface=" + surface + " --volume=3" + out).exit_code, 0);
+  EXPECT_NEAR(rbaa::tet_volumes(rbaa::read_tet_mesh(path("t.msh")).mesh).sum(), 3.0, 1e-9);
 }
 
 // gflags' flags are global: another verb's flag would be accepted and ignored (an export given
