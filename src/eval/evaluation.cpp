@@ -171,42 +171,6 @@ std::vector<Moments> body_moments(const SimulationRun& run) {
   return out;
 }
 
-// The adversarial object must have the reference's outer surface: every reference boundary
-// vertex is an adversarial vertex, and the bounding boxes agree.
-// Why `adversarial` does not have `reference`'s surface, or "" when it does.
-std::string surface_mismatch(const TetMesh& reference, const TetMesh& adversarial, const std::string& what) {
-  const double size = bounding_box_diagonal(reference);
-  const double tol = 1e-9 * size;
-  const Eigen::RowVector3d dlo = reference.V.colwise().minCoeff() - adversarial.V.colwise().minCoeff();
-  const Eigen::RowVector3d dhi = reference.V.colwise().maxCoeff() - adversarial.V.colwise().maxCoeff();
-  if (dlo.cwiseAbs().maxCoeff() > tol || dhi.cwiseAbs().maxCoeff() > tol) {
-    return what + ": the adversarial object's bounding box differs from the scene's "
-           "reference object (is it placed at the scene's initial pose, from the same scene?)";
-  }
-  std::vector<std::array<double, 3>> adv(adversarial.num_vertices());
-  for (int i = 0; i < adversarial.num_vertices(); ++i) adv[i] = {adversarial.V(i, 0), adversarial.V(i, 1), adversarial.V(i, 2)};
-  std::sort(adv.begin(), adv.end());
-  for (int v : boundary_vertices(reference)) {
-    const std::array<double, 3> p = {reference.V(v, 0), reference.V(v, 1), reference.V(v, 2)};
-    auto it = std::lower_bound(adv.begin(), adv.end(), std::array<double, 3>{p[0] - tol, -INFINITY, -INFINITY});
-    bool found = false;
-    for (; it != adv.end() && (*it)[0] <= p[0] + tol && !found; ++it) {
-      found = std::abs((*it)[1] - p[1]) <= tol && std::abs((*it)[2] - p[2]) <= tol;
-    }
-    if (!found) {
-      std::ostringstream msg;
-      msg << what << ": the adversarial object's surface is not the reference's (reference surface vertex "
-          << v << " at (" << p[0] << ", " << p[1] << ", " << p[2] << ") is missing)";
-      return msg.str();
-    }
-  }
-  return "";
-}
-
-Eigen::RowVector3d box_middle(const TetMesh& mesh) {
-  return 0.5 * (mesh.V.colwise().minCoeff() + mesh.V.colwise().maxCoeff());
-}
-
 // The report's names of contacts: "mesh backboard" (the file's stem, else its index),
 // "bodies object-ball" (body 0 the object, i + 1 scene.bodies[i]).
 std::string mesh_contact_name(const Scene& scene, int mesh) {
@@ -804,18 +768,8 @@ Evaluation evaluate(const Scene& scene_given, const TetMesh& reference_mesh,
   }
   validate_material_field(adversarial_materials, adversarial_as_given.num_tets(),
                           "adversarial materials");
-  // A demonstration starts the attack's object elsewhere (the ball from its release, not from just
-  // before the backboard): the same shape, translated, and turned by the demonstration's rotation
-  // when it turns its object and the attack's did not (the cube stack's striker lands edge first;
-  // its cube was attacked face on).
-  TetMesh adversarial_moved = scene_in.demonstration.enabled
-                                  ? turn_into_scene_pose(scene_in, reference_mesh, adversarial_as_given)
-                                  : adversarial_as_given;
-  if (scene_in.demonstration.enabled) {
-    adversarial_moved.V.rowwise() += box_middle(reference_mesh) - box_middle(adversarial_moved);
-  }
-  const std::string mismatch = surface_mismatch(reference_mesh, adversarial_moved, "adversarial mesh");
-  if (!mismatch.empty()) throw InputError(mismatch);
+  const TetMesh adversarial_moved =
+      adversarial_in_scene(scene_in, reference_mesh, adversarial_as_given, "adversarial mesh");
   // object.position is the centre of mass: an object whose materials put it elsewhere than the
   // reference's centroid starts translated (an attack's object has the reference's moments, so
   // the translation is round-off).

@@ -89,6 +89,10 @@ double bounding_box_diagonal(const TetMesh& mesh) {
   return (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
 }
 
+Eigen::RowVector3d box_middle(const TetMesh& mesh) {
+  return 0.5 * (mesh.V.colwise().minCoeff() + mesh.V.colwise().maxCoeff());
+}
+
 RestShape compute_rest_shape(const TetMesh& mesh, const std::string& source) {
   RestShape rest;
   const int nt = mesh.num_tets();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <sstream>
 
 #include "rbaa/error.hpp"
@@ -107,6 +108,35 @@ Faces boundary_faces(const TetMesh& mesh) {
     for (int c = 0; c < 3; ++c) F(static_cast<Eigen::Index>(i), c) = out[i][c];
   }
   return F;
+}
+
+std::string surface_mismatch(const TetMesh& reference, const TetMesh& adversarial, const std::string& what) {
+  const double size = bounding_box_diagonal(reference);
+  const double tol = 1e-9 * size;
+  const Eigen::RowVector3d dlo = reference.V.colwise().minCoeff() - adversarial.V.colwise().minCoeff();
+  const Eigen::RowVector3d dhi = reference.V.colwise().maxCoeff() - adversarial.V.colwise().maxCoeff();
+  if (dlo.cwiseAbs().maxCoeff() > tol || dhi.cwiseAbs().maxCoeff() > tol) {
+    return what + ": the adversarial object's bounding box differs from the scene's "
+           "reference object (is it placed at the scene's initial pose, from the same scene?)";
+  }
+  std::vector<std::array<double, 3>> adv(adversarial.num_vertices());
+  for (int i = 0; i < adversarial.num_vertices(); ++i) adv[i] = {adversarial.V(i, 0), adversarial.V(i, 1), adversarial.V(i, 2)};
+  std::sort(adv.begin(), adv.end());
+  for (int v : boundary_vertices(reference)) {
+    const std::array<double, 3> p = {reference.V(v, 0), reference.V(v, 1), reference.V(v, 2)};
+    auto it = std::lower_bound(adv.begin(), adv.end(), std::array<double, 3>{p[0] - tol, -INFINITY, -INFINITY});
+    bool found = false;
+    for (; it != adv.end() && (*it)[0] <= p[0] + tol && !found; ++it) {
+      found = std::abs((*it)[1] - p[1]) <= tol && std::abs((*it)[2] - p[2]) <= tol;
+    }
+    if (!found) {
+      std::ostringstream msg;
+      msg << what << ": the adversarial object's surface is not the reference's (reference surface vertex "
+          << v << " at (" << p[0] << ", " << p[1] << ", " << p[2] << ") is missing)";
+      return msg.str();
+    }
+  }
+  return "";
 }
 
 std::vector<int> boundary_vertices(const TetMesh& mesh) {

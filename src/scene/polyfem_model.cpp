@@ -55,10 +55,13 @@ ExportObject adversarial_export_object(const Scene& scene, const std::string& pa
     msg << path << ": every element is void (alpha < " << scene.round_threshold << ")";
     throw InputError(msg.str());
   }
+  // In the scene's pose with its void elements still in, whose outer surface must be the
+  // scene's reference's (as rbaa evaluate requires): another scene's object is refused.
+  const TetMesh posed = adversarial_in_scene(scene, make_scene_mesh(scene), file.mesh, path);
   ExportObject o;
   o.removed_elements = nt - static_cast<int>(kept.size());
   const int n = static_cast<int>(kept.size());
-  o.mesh.V = file.mesh.V;
+  o.mesh.V = posed.V;
   o.mesh.T.resize(n, 4);
   o.materials = MaterialField::uniform(n, 1, 0.3, 1);
   for (int i = 0; i < n; ++i) {
@@ -72,8 +75,6 @@ ExportObject adversarial_export_object(const Scene& scene, const std::string& pa
   }
   o.removed_vertices = remove_unreferenced_vertices(o.mesh);
   validate_material_field(o.materials, n, path);
-  // Turned into the scene's pose if it was designed unturned (as rbaa evaluate does).
-  if (scene.rotation_angle_deg != 0) o.mesh = turn_into_scene_pose(scene, make_scene_mesh(scene), o.mesh);
   o.mesh = place_centre_of_mass(scene, std::move(o.mesh), o.materials.effective_density(), path);
   return o;
 }

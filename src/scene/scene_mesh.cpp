@@ -8,6 +8,7 @@
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/mesh/tetrahedralize.hpp"
+#include "rbaa/mesh/topology.hpp"
 #include "rbaa/sim/mesh_obstacle_form.hpp"
 
 namespace rbaa {
@@ -124,6 +125,15 @@ TetMesh turn_into_scene_pose(const Scene& scene, const TetMesh& reference, const
   TetMesh turned = given;
   turned.V = ((given.V.rowwise() - middle) * R.transpose()).rowwise() + middle;
   return (extent(turned) - want).cwiseAbs().maxCoeff() <= tol ? turned : given;
+}
+
+TetMesh adversarial_in_scene(const Scene& scene, const TetMesh& reference, const TetMesh& given,
+                             const std::string& source) {
+  TetMesh moved = turn_into_scene_pose(scene, reference, given);
+  if (scene.demonstration.enabled) moved.V.rowwise() += box_middle(reference) - box_middle(moved);
+  const std::string mismatch = surface_mismatch(reference, moved, source);
+  if (!mismatch.empty()) throw InputError(mismatch);
+  return moved;
 }
 
 TetMesh place_centre_of_mass(const Scene& scene, TetMesh mesh, const Eigen::VectorXd& density,

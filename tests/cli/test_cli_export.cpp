@@ -145,18 +145,31 @@ TEST_F(Cli, ExportPolyfemAdversarialDropsVoid) {
   for (int e : void_elements) data["alpha"][e] = 0.0;
   data["alpha"][17] = 0.3;
   data["alpha"][30] = 0.75;
-  const std::string mesh_file = path("cube.msh");
-  rbaa::write_tet_mesh(mesh_file, cube, data);
-  // The scene's object is the same cube; its position is where the centre of mass goes.
+  // The scene's object is the same cube; its position is where the centre of mass goes. The
+  // adversarial object is the cube where the scene places it, as an attack writes it.
+  rbaa::write_tet_mesh(path("cube.msh"), cube, {});
   const std::string config =
       write_file("cube.yaml",
                  "mesh: {file: cube.msh}\nobject: {position: [0.3, 0.2, 0.5], velocity: [1, 0, 0],"
                  " angular_velocity: [0, 0, 2]}\ngravity: off\ncontact: {kappa: 1}\n"
                  "time: {step: 0.001, duration: 0.01}\n");
+  const std::string mesh_file = path("cube_adversarial.msh");
+  rbaa::write_tet_mesh(path("cube_elsewhere.msh"), cube, data);
+  cube = rbaa::make_scene_mesh(rbaa::load_scene(config));
+  rbaa::write_tet_mesh(mesh_file, cube, data);
   const std::string out = path("adv");
   const auto r = run("export --format=polyfem --config=" + config + " --adversarial=" + mesh_file +
                      " --out=" + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The same object where its file put it, not the scene's pose, is another scene's (as rbaa
+  // evaluate says): the export used to place it anyway.
+  const auto elsewhere = run("export --format=polyfem --config=" + config + " --adversarial=" +
+                             path("cube_elsewhere.msh") + " --out=" + path("adv_elsewhere"));
+  EXPECT_EQ(elsewhere.exit_code, 2);
+  EXPECT_NE(elsewhere.err.find("cube_elsewhere.msh: the adversarial object's bounding box differs"),
+            std::string::npos)
+      << elsewhere.err;
+  EXPECT_EQ(std::count(elsewhere.err.begin(), elsewhere.err.end(), '\n'), 1) << elsewhere.err;
   EXPECT_NE(r.err.find("7 void elements"), std::string::npos) << r.err;
 
   const rbaa::TetMesh exported = rbaa::read_msh(out + "/object.msh").mesh;
@@ -209,8 +222,8 @@ TEST_F(Cli, ExportPolyfemAdversarialDropsVoid) {
           .centre_of_mass();
   EXPECT_LE((centre - position).norm(), 1e-12) << centre.transpose();
 
-  // So is a uniform object's, whose kept elements have one density: its file puts it elsewhere
-  // (the cube's centroid is near 0.06 m), and nothing makes it the scene's mesh.
+  // So is a uniform object's, whose kept elements have one density: without its void elements
+  // its centre of mass is not the whole cube's, which the scene placed.
   rbaa::ElementData uniform = data;
   uniform["Y"].setConstant(1e10);
   uniform["nu"].setConstant(0.3);

@@ -75,6 +75,9 @@ int orient_tets_positively(TetMesh& mesh);
 /// Axis-aligned bounding box diagonal length of the vertices.
 double bounding_box_diagonal(const TetMesh& mesh);
 
+/// The middle of the vertices' axis-aligned bounding box.
+Eigen::RowVector3d box_middle(const TetMesh& mesh);
+
 /// Per-element rest-shape data for linear-tet FEM: F = Ds Dm^-1 with Dm = [b-a, c-a, d-a].
 struct RestShape {
   std::vector<Eigen::Matrix3d> Dm_inv;  ///< #T inverse rest edge matrices

@@ -13,6 +13,12 @@ namespace rbaa {
 /// Deterministic order: by element index, then local face index.
 Faces boundary_faces(const TetMesh& mesh);
 
+/// Why `adversarial` does not have `reference`'s outer surface, or "" when it does: their bounding
+/// boxes agree and every boundary vertex of `reference` is a vertex of `adversarial`, both to 1e-9
+/// of the reference's diagonal (the message begins with `what`).
+std::string surface_mismatch(const TetMesh& reference, const TetMesh& adversarial,
+                             const std::string& what);
+
 /// Sorted indices of the vertices on the boundary surface.
 std::vector<int> boundary_vertices(const TetMesh& mesh);
 

@@ -45,6 +45,15 @@ TetMesh make_copy_mesh(const Scene& scene, const BodySpec& body, const TetMesh& 
 /// the mesh unchanged. Translations are left to the caller (place_centre_of_mass).
 TetMesh turn_into_scene_pose(const Scene& scene, const TetMesh& reference, const TetMesh& given);
 
+/// An attack's object as its file gives it, in `scene`'s pose before placement, checked against
+/// `reference` (the scene's placed reference mesh): turned (turn_into_scene_pose) and, in a
+/// demonstration (which starts its object elsewhere than the attack did: the ball from its
+/// release, not from just before the backboard), moved so that its bounding box's middle is the
+/// reference's. Throws rbaa::InputError naming `source` unless its outer surface is then the
+/// reference's (surface_mismatch). rbaa evaluate and rbaa export take an adversarial object so.
+TetMesh adversarial_in_scene(const Scene& scene, const TetMesh& reference, const TetMesh& given,
+                             const std::string& source);
+
 TetMesh place_centre_of_mass(const Scene& scene, TetMesh mesh, const Eigen::VectorXd& density,
                              const std::string& source);
 
