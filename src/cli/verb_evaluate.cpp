@@ -65,7 +65,7 @@ int run_evaluate() {
   const rbaa::MaterialField materials =
       self_check ? rbaa::MaterialField::uniform(reference.num_tets(), scene.reference_Y,
                                                 scene.reference_nu, scene.reference_rho, 1.0)
-                 : rbaa::read_materials(FLAGS_adversarial, adversarial_mesh.num_tets());
+                 : rbaa::read_materials(FLAGS_adversarial, adversarial_mesh);
   rbaa::EvaluationOptions options;
   options.duration = FLAGS_duration;
   options.time_step = time_step;

@@ -78,7 +78,7 @@ int run_gradcheck() {
   if (!FLAGS_materials.empty()) {
     // Every field of the given design, checked or not, keeps its values.
     const rbaa::MaterialField given = problem.world_materials(
-        rbaa::read_materials(FLAGS_materials, problem.body_mesh.num_tets()), FLAGS_materials);
+        rbaa::read_materials(FLAGS_materials, problem.body_mesh), FLAGS_materials);
     design.hold_fixed_fields(given);
     theta = design.to_theta(given);
   }

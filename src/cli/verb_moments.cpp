@@ -23,7 +23,7 @@ int run_moments() {
   const rbaa::TetMesh mesh = rbaa::read_tet_mesh(FLAGS_mesh).mesh;
   Eigen::VectorXd density = Eigen::VectorXd::Constant(mesh.num_tets(), FLAGS_density);
   if (!FLAGS_materials.empty()) {
-    density = rbaa::read_materials(FLAGS_materials, mesh.num_tets()).effective_density();
+    density = rbaa::read_materials(FLAGS_materials, mesh).effective_density();
   }
   const rbaa::Moments m = rbaa::compute_moments(mesh, density);
   nlohmann::json out;

@@ -32,7 +32,7 @@ int run_simulate() {
   rbaa::MaterialField materials = rbaa::MaterialField::uniform(
       mesh.num_tets(), scene.reference_Y, scene.reference_nu, scene.reference_rho);
   if (!FLAGS_materials.empty()) {
-    materials = rbaa::read_materials(FLAGS_materials, mesh.num_tets());
+    materials = rbaa::read_materials(FLAGS_materials, mesh);
     mesh = rbaa::place_centre_of_mass(scene, std::move(mesh), materials.effective_density(),
                                       FLAGS_materials);
   }

@@ -57,12 +57,23 @@ MaterialField read_materials_csv(const std::string& path, int num_tets) {
   return field;
 }
 
-MaterialField read_materials_msh(const std::string& path, int num_tets) {
+MaterialField read_materials_msh(const std::string& path, int num_tets, const Tets* tets) {
   const TetMeshFile file = read_msh(path);
   const int file_tets = file.mesh.num_tets();
   if (file_tets != num_tets) {
     throw InputError(path + ": the file's mesh has " + std::to_string(file_tets) +
                      " tetrahedra but the mesh has " + std::to_string(num_tets));
+  }
+  for (int e = 0; tets && e < num_tets; ++e) {
+    if (file.mesh.T.row(e) != tets->row(e)) {
+      auto four = [](const auto& row) {
+        return "(" + std::to_string(row(0)) + ", " + std::to_string(row(1)) + ", " +
+               std::to_string(row(2)) + ", " + std::to_string(row(3)) + ")";
+      };
+      throw InputError(path + ": the file's mesh is not the mesh: its tet " + std::to_string(e) +
+                       " has vertices " + four(file.mesh.T.row(e)) + ", the mesh's " +
+                       four(tets->row(e)));
+    }
   }
   auto field_named = [&](const char* name, bool required) -> Eigen::VectorXd {
     const auto it = file.element_data.find(name);
@@ -81,21 +92,29 @@ MaterialField read_materials_msh(const std::string& path, int num_tets) {
   return field;
 }
 
-}  // namespace
-
-MaterialField read_materials(const std::string& path, int num_tets) {
+MaterialField read_materials_file(const std::string& path, int num_tets, const Tets* tets) {
   const std::string ext = std::filesystem::path(path).extension().string();
   MaterialField field;
   if (ext == ".csv") {
     field = read_materials_csv(path, num_tets);
   } else if (ext == ".msh") {
-    field = read_materials_msh(path, num_tets);
+    field = read_materials_msh(path, num_tets, tets);
   } else {
     throw InputError(path + ": unknown materials file extension '" + ext +
                      "' (expected .csv or .msh)");
   }
   validate_material_field(field, num_tets, path);
   return field;
+}
+
+}  // namespace
+
+MaterialField read_materials(const std::string& path, int num_tets) {
+  return read_materials_file(path, num_tets, nullptr);
+}
+
+MaterialField read_materials(const std::string& path, const TetMesh& mesh) {
+  return read_materials_file(path, mesh.num_tets(), &mesh.T);
 }
 
 void write_materials_csv(const std::string& path, const MaterialField& field) {

@@ -240,7 +240,7 @@ SceneWorld make_world(const Scene& scene, const TetMesh& object_mesh) {
         spec.materials_file.empty() || spec.object_copy
             ? MaterialField::uniform(mesh.num_tets(), scene.reference_Y, scene.reference_nu,
                                      scene.reference_rho)
-            : read_materials(spec.materials_file, mesh.num_tets());
+            : read_materials(spec.materials_file, mesh);
     if (!spec.materials_file.empty() && !spec.object_copy) {
       validate_material_field(field, mesh.num_tets(), spec.materials_file);
       // Its centre of mass under its own materials at its position, as for the object.

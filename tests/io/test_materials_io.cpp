@@ -115,6 +115,22 @@ TEST(Materials, MshErrors) {
 
   msg = input_error_message([&] { read_materials(dir.file("m.json"), nt); });
   EXPECT_NE(msg.find("m.json"), std::string::npos) << msg;
+
+  // Against a mesh, not only its count: the same mesh moved is its mesh, one of the same count
+  // with other tets (the cube's tets 0 and 1 swapped) is not.
+  TetMesh moved = mesh;
+  moved.V.rowwise() += Eigen::RowVector3d(0.3, -2, 5);
+  expect_same(read_materials(dir.file("adv.msh"), moved), field);
+  TetMesh other = mesh;
+  other.T.row(0).swap(other.T.row(1));
+  msg = input_error_message([&] { read_materials(dir.file("adv.msh"), other); });
+  EXPECT_NE(msg.find("adv.msh: the file's mesh is not the mesh: its tet 0 has vertices ("),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  // A .csv names no tets: its row count is all there is to check.
+  write_materials_csv(dir.file("m.csv"), field);
+  expect_same(read_materials(dir.file("m.csv"), other), field);
 }
 
 TEST(Materials, AlphaDefaultsToOneInMsh) {

@@ -17,6 +17,11 @@ namespace rbaa {
 /// on a missing column, a wrong number of rows, a non-numeric or non-finite value.
 MaterialField read_materials(const std::string& path, int num_tets);
 
+/// The same for the tets of `mesh`; a .msh must also carry `mesh`'s own tets (the same vertex
+/// indices, tet by tet): another mesh of the same count is refused, naming the first tet that
+/// differs. (Its vertex positions may differ: a scene places its mesh.)
+MaterialField read_materials(const std::string& path, const TetMesh& mesh);
+
 /// Writes `field` as CSV with header "Y,nu,rho,alpha" and one row per tet, atomically, exactly.
 void write_materials_csv(const std::string& path, const MaterialField& field);
 
