@@ -81,7 +81,16 @@ def solve(loss):
 
 
 if __name__ == "__main__":
-    loss = [float(a) for a in sys.argv[1:5]] if len(sys.argv) >= 5 else [0.0] * 4
+    if len(sys.argv) not in (1, 5):
+        sys.exit("fit_bat_profile.py: give no arguments (pass 1) or the four measured losses "
+                 "(m0 m1_z m2_xx m2_zz, relative), not %d" % (len(sys.argv) - 1))
+    try:
+        loss = [float(a) for a in sys.argv[1:5]] if len(sys.argv) == 5 else [0.0] * 4
+    except ValueError as e:
+        sys.exit("fit_bat_profile.py: a loss is not a number: %s" % e)
+    if not all(math.isfinite(x) and x > -1 for x in loss):
+        sys.exit("fit_bat_profile.py: each loss must be finite and above -1 (got %s)" %
+                 " ".join(sys.argv[1:5]))
     p, r = solve(loss)
     print("residuals", ["%+.1e" % x for x in r])
     print("profile (z, r):", ", ".join("{%g, %g}" % (round(z, 6), round(x, 7)) for z, x in profile(p)))

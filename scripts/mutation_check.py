@@ -692,6 +692,13 @@ def main():
     ap.add_argument("--skip-baseline", action="store_true",
                     help="do not check that the unmutated tree passes the suite first")
     args = ap.parse_args()
+    if args.count < 1:
+        sys.exit(f"mutation_check.py: --count must be at least 1 (got {args.count})")
+    if args.jobs < 1:
+        sys.exit(f"mutation_check.py: --jobs must be at least 1 (got {args.jobs})")
+    report_dir = os.path.dirname(os.path.abspath(args.report))
+    if not os.path.isdir(report_dir):
+        sys.exit(f"mutation_check.py: --report {args.report}: no folder {report_dir}")
 
     repo = git(args.repo or here, "rev-parse", "--show-toplevel")
     commit = git(repo, "rev-parse", "HEAD")
