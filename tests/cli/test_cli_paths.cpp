@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cli/cli_fixture.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
@@ -71,6 +74,34 @@ TEST_F(CliPaths, StudyWithAMemoryBudget) {
   EXPECT_NE(csv.find(": rebuilt"), std::string::npos) << csv;
   expect_failure("study --config=" + config + " --out=" + path("s2") + sweep + " --memory_budget_gb=0",
                  "memory_budget_gb");
+}
+
+// A swept value outside the study's range was moved to its bound without a word: --time_steps=0.05
+// ran at 1/30 s (on the star, the config's own step, so the point merged with the config's) and
+// --mesh_factors=0.1 of the 300-tet ball meshed 50 tets. Both are refused before any run; a step
+// within the range is still rounded to T / n, and the progress says so.
+TEST_F(CliPaths, StudyRefusesASweptValueOutsideItsRange) {
+  const std::string config = write("ball.yaml", kTinyBall);
+  const std::string rest = " --newton_tolerances=1e-8 --reference_divisor=2 --out=" + path("study");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--time_steps=0.01,0.05", "--time_steps=0.05: outside the study's range of steps, 0.0001 to 1/30 s"},
+      {"--time_steps=0.00001", "--time_steps=1e-05: outside"},
+      {"--mesh_factors=0.1", "--mesh_factors=0.1: 0.1 x the config's 300 tets is 30, below the study's "
+                             "smallest mesh of 50 tets"},
+  };
+  for (const auto& [flags, fragment] : cases) {
+    const std::string args = "study --config=" + config + " " + flags + rest;
+    expect_failure(args, fragment);
+    EXPECT_EQ(run(args).exit_code, 2) << flags;
+    EXPECT_FALSE(std::filesystem::exists(path("study"))) << flags;
+  }
+  // T = 0.05 s: 0.03 s becomes T / 2.
+  const Result r = run("study --config=" + config + " --time_steps=0.03 --mesh_factors=1" + rest);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("time step 0.03 s rounded to 0.025 s (T / 2) so that the run ends at T = 0.05 s"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(slurp(path("study/study.csv")).find("\ntime_step,h=0.025,"), std::string::npos);
 }
 
 TEST_F(CliPaths, ResumeRefusalNamesBothFingerprints) {
