@@ -219,11 +219,13 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
   SolidObject polished = solid;
   polished.materials = design.to_material(r.polish.theta);
   FinalGap g;
+  DensityRefitResult refit;
   try {
     // The retraction leaves the moments about the reference centre matched to ~1e-12; the re-fit
     // brings those about the origin within the post-process's tolerance as well.
-    polished.materials.rho = refit_density(polished.mesh, polished.materials.alpha, polished.materials.rho,
-                                           r.reference_moments, design.map(DesignField::kRho)).rho;
+    refit = refit_density(polished.mesh, polished.materials.alpha, polished.materials.rho,
+                          r.reference_moments, design.map(DesignField::kRho));
+    polished.materials.rho = refit.rho;
     stage("simulating the polished object");
     g = measure_solid(problem, reference_element_masses, polished);
   } catch (const SolverError& e) {
@@ -247,6 +249,9 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
       r.post.rounded.rho[e] = polished.materials.rho[i];
     }
     r.post.solid = std::move(polished);
+    // The report's re-fit is the final object's: the polished one's own.
+    r.post.max_residual_before_refit = refit.initial_max_residual;
+    r.post.refit = std::move(refit);
     r.gap_final = g.gap;
     r.com_gap_final = g.com_gap;
     r.scored_com_final = g.scored_com;
@@ -586,7 +591,8 @@ void write_attack_outputs(const AttackResult& r, const Scene& scene, const std::
           {"after", r.post.connectivity.components_after}}},
         {"elements_added", r.post.connectivity.elements_added}}},
       {"refit",
-       {{"max_residual_before", r.post.max_residual_before_refit},
+       {{"object", r.polish_kept ? "polished" : "post-processed"},
+        {"max_residual_before", r.post.max_residual_before_refit},
         {"max_residual_after", refit.max_residual},
         {"iterations", refit.iterations}}},
       {"materials",

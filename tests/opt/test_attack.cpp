@@ -210,6 +210,15 @@ TEST(Attack, PolishWidensThePostProcessedGap) {
   EXPECT_EQ(report["polish"]["iterations"].get<int>(), 10);
   EXPECT_TRUE(report["polish"]["kept"].get<bool>());
   EXPECT_EQ(report["gap"]["post_processed"].get<double>(), r.gap_post_processed);
+  // The re-fit reported is the final (polished) object's: its design came matched from the
+  // polish's retraction (about the reference centre), not from rounding, which left the
+  // post-processed object's moments far off before its re-fit.
+  std::printf("re-fit of the polished object: max residual %.3g before, %.3g after\n",
+              report["refit"]["max_residual_before"].get<double>(),
+              report["refit"]["max_residual_after"].get<double>());
+  EXPECT_EQ(report["refit"]["object"], "polished");
+  EXPECT_LT(report["refit"]["max_residual_before"].get<double>(), 1e-6);
+  EXPECT_LE(report["refit"]["max_residual_after"].get<double>(), 1e-10);
 }
 
 // A polish on an attack whose fields leave rho out (attack.fields: [Y, nu, alpha]): rho is then
