@@ -80,8 +80,9 @@ RBAA_REGISTER_VERB(study, rbaa::cli::Verb{
     "Sweeps one factor at a time around the config (time step, mesh resolution, integrator,\n"
     "mass matrix, Newton tolerance, factor storage) and measures the wall time of a forward run\n"
     "and of a gradient, and the accuracy against a fine reference (the config mesh at h/16 in\n"
-    "time, the finest mesh at the config's h in space): centre-of-mass and orientation error at\n"
-    "T and the cosine of the gradient with the reference gradient. With --adversarial, also the\n"
-    "adversarial object's gap at h, h/4, h/16 and on a finer mesh. Writes DIR/study.csv,\n"
-    "DIR/study.md, DIR/pareto.gp + pareto.png and DIR/survival.csv.",
+    "time, 16 being --reference_divisor; the finest mesh at the config's h in space):\n"
+    "centre-of-mass and orientation error at T and the cosine of the gradient with the\n"
+    "reference gradient. With --adversarial, also the adversarial object's gap at h, h/4, h/16\n"
+    "and on a finer mesh. Writes DIR/study.csv, DIR/study.md, DIR/pareto.gp + pareto.png and\n"
+    "DIR/survival.csv.",
     flags(), run_study_verb});

@@ -218,12 +218,13 @@ class StudyRunner {
     const auto t_start = Clock::now();
     StudyResult result;
     result.scene = scene_.name;
+    result.reference_time_divisor = options_.reference_time_divisor;
     const double h0 = scene_.time_step, T = scene_.duration;
 
     progress("config point (h = " + number(h0) + " s, " + std::to_string(config_mesh_->num_tets()) + " tets)");
     const Measurement config = measure(scene_, config_mesh_, FactorStorage::kStore);
 
-    // --- Time step (reference: the config mesh at h / 16) ---
+    // --- Time step (reference: the config mesh at h / divisor) ---
     Scene ref_scene = scene_;
     ref_scene.time_step = snap_time_step(h0 / options_.reference_time_divisor, T);
     progress("reference in time (h = " + number(ref_scene.time_step) + " s)");
@@ -590,7 +591,8 @@ void write_pareto_plot(const StudyResult& r, const std::string& dir) {
     ++i;
   }
   const char* names[2] = {"pareto_front_time.dat", "pareto_front_space.dat"};
-  const char* titles[2] = {"front (vs h/16)", "front (mesh, vs finest)"};
+  const std::string titles[2] = {"front (vs h/" + std::to_string(r.reference_time_divisor) + ")",
+                                 "front (mesh, vs finest)"};
   for (int k = 0; k < 2; ++k) {
     std::ofstream dat(d / names[k]);
     dat << std::setprecision(10);
@@ -726,7 +728,9 @@ void write_study_outputs(const StudyResult& result, const std::string& dir) {
     md << "# Speed against accuracy: " << result.scene << "\n\n"
        << "One factor at a time around the config. Forward: a run of the reference object; gradient: "
           "forward + adjoint of the undirected trajectory term at the attack's unperturbed start. "
-          "Errors at T against the config mesh at h / 16 (all sweeps but the mesh sweep) or against "
+          "Errors at T against the config mesh at h / "
+       << result.reference_time_divisor
+       << " (all sweeps but the mesh sweep) or against "
           "the finest mesh at the config's h (mesh sweep); gradient cosine of volume-normalised "
           "gradient densities (the mesh sweep's carried to the finest mesh by centroid lookup). "
           "Pareto: not beaten in both forward time and centre-of-mass error by another row measured against the same reference (two fronts: the mesh sweep against the reference in space, every other sweep against the reference in time). "

@@ -104,6 +104,21 @@ TEST_F(CliPaths, StudyRefusesASweptValueOutsideItsRange) {
   EXPECT_NE(slurp(path("study/study.csv")).find("\ntime_step,h=0.025,"), std::string::npos);
 }
 
+// study.md and the Pareto plot's legend said "h / 16" whatever --reference_divisor was.
+TEST_F(CliPaths, StudyTextNamesTheReferenceDivisorItRan) {
+  const std::string config = write("ball.yaml", kTinyBall);
+  const Result r = run("study --config=" + config + " --out=" + path("study") +
+                       " --time_steps=0.01 --mesh_factors=1 --newton_tolerances=1e-8 --reference_divisor=4");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = slurp(path("study/study.md"));
+  EXPECT_NE(md.find("Errors at T against the config mesh at h / 4 (all sweeps"), std::string::npos) << md;
+  EXPECT_NE(slurp(path("study/study.csv")).find("h=0.0025 (reference)"), std::string::npos);
+  const std::string gp = slurp(path("study/pareto.gp"));
+  EXPECT_NE(gp.find("title 'front (vs h/4)'"), std::string::npos) << gp;
+  EXPECT_EQ(md.find("h / 16"), std::string::npos);
+  EXPECT_EQ(gp.find("h/16"), std::string::npos);
+}
+
 TEST_F(CliPaths, ResumeRefusalNamesBothFingerprints) {
   const std::string config = write("ball.yaml", kTinyBall);
   const Result first = run("attack --config=" + config + " --iterations=1 --out=" + path("a"));

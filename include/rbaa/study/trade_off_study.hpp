@@ -11,7 +11,8 @@
 // Every point measures the wall time of a forward run of the reference object (uniform
 // reference material) and of a gradient (forward + adjoint of the undirected attack's trajectory
 // term at the attack's unperturbed starting design), and its accuracy against a fine reference:
-// the config mesh at h / 16 for every sweep but the mesh sweep, the finest mesh at the config's h
+// the config mesh at h / 16 (StudyOptions::reference_time_divisor) for every sweep but the mesh
+// sweep, the finest mesh at the config's h
 // for the mesh sweep. Accuracy: centre-of-mass and orientation error at T, and the cosine of the
 // gradient with the reference's gradient, compared as volume-normalised densities on the
 // reference's mesh (gradient_comparison.hpp: the identity for sweeps on the config mesh, centroid
@@ -19,7 +20,8 @@
 //
 // Stored factorisations switch to rebuilt ones when steps x one factor would exceed the memory
 // budget. With an adversarial object the study also asks whether the attack survives
-// refinement: its deformable gap and angle against the reference at h, h/4 and h/16, and on the
+// refinement: its deformable gap and angle against the reference at h, h/4 and h/16 (the
+// divisor), and on the
 // finest mesh of the mesh sweep with the materials carried over element-wise (objects without
 // voids only).
 
@@ -86,6 +88,7 @@ struct SurvivalPoint {
 
 struct StudyResult {
   std::string scene;
+  int reference_time_divisor = 16;  ///< the reference in time ran at h / this (study.md says so)
   std::vector<StudyPoint> points;
   std::vector<SurvivalPoint> survival;
   std::string survival_note;
