@@ -632,6 +632,30 @@ TEST(Evaluation, AdversarialCentreOfMassStartsAtThePosition) {
   EXPECT_LT((ev.adversarial_moments.centre_of_mass() - scene.position).norm(), tol);
 }
 
+// An object that never moves (at rest, no gravity, nothing to meet): its path is round-off
+// (4e-18 m) and its twin sits the twin's own resolution away (3.7e-10 m: the centre on a grid of
+// 2^-24 of the radius of gyration). The shares the twins do not explain count the path at least
+// as long as the ball's radius (0.1 m), so they read ~4e-9, not 8.9e7 (gap / round-off).
+TEST(Evaluation, AnObjectAtRestHasNoUnexplainedShareOfItsPath) {
+  Scene scene = ball_scene();
+  scene.velocity.setZero();
+  scene.angular_velocity.setZero();
+  scene.kappa = 1e3;  // the energy rule has no motion to go by
+  const TetMesh mesh = make_scene_mesh(scene);
+  EvaluationOptions options;
+  options.time_step = scene.time_step;
+  options.duration = scene.duration;
+  const Evaluation ev =
+      evaluate(scene, mesh, mesh, MaterialField::uniform(mesh.num_tets(), 1e10, 0.3, 2500), options);
+  for (const OwnTwin* t : {&ev.reference_own_twin, &ev.adversarial_own_twin, &ev.soft_own_twin}) {
+    EXPECT_LT(t->path_length, 1e-15);
+    EXPECT_LT(t->gap.max_position_gap, 1e-9);
+    EXPECT_LT(t->unexplained, 1e-8) << t->gap.max_position_gap << " m over " << t->path_length << " m";
+  }
+  EXPECT_LT(ev.baseline_path_length, 1e-15);
+  EXPECT_LT(ev.baseline_disagreement, 1e-8);
+}
+
 TEST(Evaluation, MismatchedObjectsAreRejected) {
   const Scene scene = ball_scene();
   const TetMesh mesh = make_scene_mesh(scene);

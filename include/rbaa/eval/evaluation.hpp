@@ -95,14 +95,16 @@ struct OwnTwin {
   RunTrace rigid;
   RunComparison gap;          ///< deformable run vs its own twin
   double path_length = 0;     ///< of the deformable run's centre of mass (m)
-  double unexplained = 0;     ///< gap.max_position_gap / path_length
+  double unexplained = 0;     ///< gap.max_position_gap / max(path_length, bounding radius)
 };
 
 /// One step tried for the stiff baseline: how far it strays from its calibrated rigid twin.
 struct BaselineTrial {
   double time_step = 0;      ///< s
   double path_length = 0;    ///< of the baseline's centre of mass (m)
-  double disagreement = 0;   ///< largest baseline-vs-rigid gap / path_length
+  /// largest baseline-vs-rigid gap / path_length (the path counted at least as long as the
+  /// body's bounding radius: a body that hardly moves is not divided by round-off)
+  double disagreement = 0;
   double seconds = 0;        ///< wall time of the baseline, calibration and rigid runs
 };
 
