@@ -28,6 +28,7 @@
 #include "rbaa/sim/simulator.hpp"
 #include "rbaa/study/gradient_comparison.hpp"
 #include "rbaa/study/material_transfer.hpp"
+#include "rbaa/study/object_voids.hpp"
 #include "rbaa/study/pareto.hpp"
 
 namespace rbaa {
@@ -456,18 +457,32 @@ class StudyRunner {
       result.survival.push_back(simulate_adversarial(label, hs[i], adv.mesh, materials,
                                                      reference_final(hs[i]), *config_mesh_));
     }
-    const bool voids = adv.mesh.num_tets() != config_mesh_->num_tets() || (materials.alpha.array() < 1.0).any();
+    // Voids are told from the object's materials and mesh (object_voids.hpp), not from its tet
+    // count: an attack run at another mesh.target_tets has another count and may have no void.
+    // That the meshes differ is said apart, as the gaps then include their difference.
+    const ObjectVoids voids = find_object_voids(adv.mesh, materials, *config_mesh_);
+    std::vector<std::string> notes;
+    if (!voids.part_of_config) {
+      notes.push_back("the adversarial object's mesh (" + std::to_string(adv.mesh.num_tets()) +
+                      " tets) is not the config's (" + std::to_string(config_mesh_->num_tets()) +
+                      " tets) nor a part of it, as from an attack at another mesh.target_tets: its "
+                      "gaps are against the reference object on the config's mesh, so they include "
+                      "the difference between the two meshes");
+    }
     if (!finest || finest == config_mesh_) {
-      result.survival_note = "no finer mesh in the mesh sweep: the refined-mesh check was skipped";
-    } else if (voids) {
-      result.survival_note =
-          "the adversarial object has voids (elements removed or alpha < 1): carrying it to a finer "
-          "mesh would blur its holes, so the refined-mesh check was skipped";
+      notes.push_back("no finer mesh in the mesh sweep: the refined-mesh check was skipped");
+    } else if (voids.any()) {
+      notes.push_back("the adversarial object has voids (" + voids.describe() +
+                      "): carrying it to a finer mesh would blur its holes, so the refined-mesh "
+                      "check was skipped");
     } else {
       const MaterialField moved = transfer_materials(adv.mesh, materials, *finest);
       result.survival.push_back(simulate_adversarial(
           "tets=" + std::to_string(finest->num_tets()) + ", materials transferred", h0, *finest, moved,
           space_ref.final, *finest));
+    }
+    for (const std::string& n : notes) {
+      result.survival_note += (result.survival_note.empty() ? "" : "\n\n") + n;
     }
   }
 

@@ -5,14 +5,17 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "rbaa/io/msh.hpp"
 #include "rbaa/io/materials_io.hpp"
+#include "rbaa/opt/post_process.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/sim/threads.hpp"
 #include "rbaa/study/gradient_comparison.hpp"
 #include "rbaa/study/material_transfer.hpp"
+#include "rbaa/study/object_voids.hpp"
 #include "rbaa/study/pareto.hpp"
 #include "rbaa/study/trade_off_study.hpp"
 #include "sim/mesh_fixtures.hpp"
@@ -215,12 +218,114 @@ TEST(Study, ATinyStudyOfACoarseStarRunsEverySweepAndTheSurvivalCheck) {
   }
   EXPECT_LT(r.survival[0].moment_residual, 1e-12);  // same density everywhere: same moments
   EXPECT_GT(r.survival[3].tets, mesh.num_tets());
+  EXPECT_TRUE(r.survival_note.empty()) << r.survival_note;  // the config's own mesh, no voids
 
   write_study_outputs(r, dir.string());
   for (const char* f : {"study.csv", "study.md", "pareto.gp", "survival.csv"}) {
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   }
   EXPECT_EQ(read_study_csv((dir / "study.csv").string()).size(), r.points.size());
+  std::filesystem::remove_all(dir);
+}
+
+// An attack's object is its mesh without the emptied elements; an interior one gone leaves an
+// inner surface. Whether that mesh is the config's is told apart from whether it has voids.
+TEST(ObjectVoids, AreToldFromAlphaRemovedElementsAndInnerSurfacesNotFromTheTetCount) {
+  const TetMesh config = test::box_mesh(4, 4, 4, 0.25);
+  const MaterialField solid = MaterialField::uniform(config.num_tets(), 1e10, 0.3, 2500);
+  EXPECT_EQ(boundary_surface_pieces(config), 1);
+  ObjectVoids v = find_object_voids(config, solid, config);
+  EXPECT_TRUE(v.part_of_config);
+  EXPECT_FALSE(v.any()) << v.describe();
+
+  // The same mesh, one element half full.
+  MaterialField partial = solid;
+  partial.alpha[7] = 0.5;
+  v = find_object_voids(config, partial, config);
+  EXPECT_EQ(v.partial_elements, 1);
+  EXPECT_EQ(v.describe(), "1 element with alpha < 1");
+
+  // The config mesh with the 6 tets of an interior cube (cell 1, 1, 1) cut out, as
+  // remove_void_elements does: a cavity.
+  MaterialField emptied = solid;
+  int cut = 0;
+  for (int e = 0; e < config.num_tets(); ++e) {
+    if ((centroid(config, e) / 0.25).cast<int>() == Eigen::Vector3i(1, 1, 1)) {
+      emptied.alpha[e] = 0;
+      ++cut;
+    }
+  }
+  ASSERT_EQ(cut, 6);
+  const SolidObject object = remove_void_elements(config, emptied);
+  EXPECT_EQ(boundary_surface_pieces(object.mesh), 2);
+  v = find_object_voids(object.mesh, object.materials, config);
+  EXPECT_TRUE(v.part_of_config);
+  EXPECT_EQ(v.removed_elements, 6);
+  EXPECT_EQ(v.inner_surfaces, 1);
+  EXPECT_EQ(v.describe(), "6 elements of the config's mesh removed, 1 inner surface");
+
+  // Another mesh of the same box (an attack at another mesh.target_tets): no voids, but not the
+  // config's; with its own interior cube cut out, the inner surface tells the void.
+  const TetMesh other = test::box_mesh(5, 5, 5, 0.2);
+  const MaterialField other_solid = MaterialField::uniform(other.num_tets(), 1e10, 0.3, 2500);
+  v = find_object_voids(other, other_solid, config);
+  EXPECT_FALSE(v.part_of_config);
+  EXPECT_FALSE(v.any()) << v.describe();
+  MaterialField other_emptied = other_solid;
+  for (int e = 0; e < other.num_tets(); ++e) {
+    if ((centroid(other, e) / 0.2).cast<int>() == Eigen::Vector3i(2, 2, 2)) {
+      other_emptied.alpha[e] = 0;
+    }
+  }
+  const SolidObject other_object = remove_void_elements(other, other_emptied);
+  v = find_object_voids(other_object.mesh, other_object.materials, config);
+  EXPECT_FALSE(v.part_of_config);
+  EXPECT_EQ(v.removed_elements, 0);  // not countable on another mesh
+  EXPECT_EQ(v.inner_surfaces, 1);
+  EXPECT_TRUE(v.any());
+}
+
+// An attack run at another mesh.target_tets than the study's config has another tet count but no
+// voids: the study took that count for voids ("has voids (elements removed or alpha < 1)") and
+// skipped the refined-mesh check. Now the check runs and a note says the meshes differ.
+TEST(Study, AnAdversarialObjectOnAnotherMeshIsCheckedOnTheFinerMeshAndSaidToDiffer) {
+  set_simulation_threads(2);
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "rbaa_study_other_mesh";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string config = (dir / "ball.yaml").string();
+  // The tiny ball of the CLI tests: 300 tets, five steps of 0.01 s against a wall.
+  std::ofstream(config) << "mesh: {shape: sphere, radius: 0.1, target_tets: 300}\n"
+                           "object: {position: [0, -0.13, 0.5], velocity: [0, 2.0, 0]}\n"
+                           "obstacles: {planes: [{normal: [0, -1, 0], offset: 0}]}\n"
+                           "gravity: off\n"
+                           "time: {step: 0.01, duration: 0.05}\n";
+  const Scene scene = load_scene(config, {});
+  const TetMesh mesh = make_scene_mesh(load_scene(config, {"mesh.target_tets=200"}));
+  ASSERT_NE(mesh.num_tets(), make_scene_mesh(scene).num_tets());
+  MaterialField adv = MaterialField::uniform(mesh.num_tets(), 1e10, 0.3, 2500);
+  for (int e = 0; e < mesh.num_tets(); ++e) {
+    if (centroid(mesh, e).z() > scene.position.z()) adv.Y[e] = 1e8;
+  }
+  const std::string adv_file = (dir / "adversarial.msh").string();
+  write_msh(adv_file, mesh, material_element_data(adv));
+
+  StudyOptions options;
+  options.reference_time_divisor = 2;
+  options.timing_repeats = 1;
+  options.time_steps = {0.01};
+  options.mesh_factors = {1.5};
+  options.newton_tolerances = {1e-8};
+  options.adversarial_file = adv_file;
+  const StudyResult r = run_study(scene, options);
+  ASSERT_EQ(r.survival.size(), 4u) << r.survival_note;
+  EXPECT_NE(r.survival[3].label.find("materials transferred"), std::string::npos);
+  EXPECT_EQ(r.survival_note.find("voids"), std::string::npos) << r.survival_note;
+  EXPECT_NE(r.survival_note.find("adversarial object's mesh (" + std::to_string(mesh.num_tets()) +
+                                 " tets) is not the config's"),
+            std::string::npos)
+      << r.survival_note;
   std::filesystem::remove_all(dir);
 }
 

@@ -91,6 +91,8 @@ struct StudyResult {
   int reference_time_divisor = 16;  ///< the reference in time ran at h / this (study.md says so)
   std::vector<StudyPoint> points;
   std::vector<SurvivalPoint> survival;
+  /// Why the refined-mesh check was skipped, and whether the object's mesh is not the config's
+  /// (one paragraph each).
   std::string survival_note;
   std::vector<std::string> notes;  ///< points that could not be measured, and why
   double total_seconds = 0;
