@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -22,6 +23,7 @@
 #include "rbaa/contact/edge_edge.hpp"
 #include "rbaa/contact/edge_edge_mollifier.hpp"
 #include "rbaa/contact/point_triangle.hpp"
+#include "rbaa/contact/static_mesh_broad_phase.hpp"
 #include "rbaa/mesh/primitives.hpp"
 #include "rbaa/mesh/tetrahedralize.hpp"
 #include "rbaa/sim/barrier_stiffness.hpp"
@@ -120,8 +122,49 @@ const std::vector<int>& body_groups() { return world().body; }
 
 Eigen::Vector3d row(const Positions& V, int v) { return V.row(v).transpose(); }
 
+// The same world as the simulator's mesh-obstacle form sees it (mesh_obstacle_form.cpp): the
+// rim and the backboard stacked into one StaticMeshBroadPhase, built once (obstacles never move),
+// and the ball the moving surface, its vertices, triangles and edges indexing its own positions.
+struct BallAndObstacles {
+  Positions ball0, ball1;  // the ball's vertices at the step's start and end
+  Triangles ball_F;
+  Edges ball_E;
+  std::vector<int> ball_vertices;
+  rbaa::contact::StaticMeshBroadPhase obstacles;
+};
+
+const BallAndObstacles& ball_and_obstacles() {
+  static const BallAndObstacles b = [] {
+    const World& w = world();
+    BallAndObstacles out;
+    // make_world appends the ball first: its vertices and triangles are the leading rows.
+    const int nb = static_cast<int>(std::count(w.body.begin(), w.body.end(), 0));
+    Eigen::Index nf = 0;
+    while (nf < w.F.rows() && w.body[w.F(nf, 0)] == 0) ++nf;
+    out.ball0 = w.V0.topRows(nb);
+    out.ball1 = w.V1.topRows(nb);
+    out.ball_F = w.F.topRows(nf);
+    out.ball_E = rbaa::contact::unique_edges(out.ball_F);
+    for (int v = 0; v < nb; ++v) out.ball_vertices.push_back(v);
+    Positions V = w.V0.bottomRows(w.V0.rows() - nb);
+    Triangles F = w.F.bottomRows(w.F.rows() - nf).array() - nb;
+    Edges E = rbaa::contact::unique_edges(F);
+    out.obstacles = rbaa::contact::StaticMeshBroadPhase(std::move(V), std::move(F), std::move(E));
+    return out;
+  }();
+  return b;
+}
+
+void candidate_counters(benchmark::State& state, const rbaa::contact::StaticMeshCandidates& c) {
+  state.counters["vertex_triangle"] = double(c.vertex_triangle.size());
+  state.counters["triangle_vertex"] = double(c.triangle_vertex.size());
+  state.counters["edge_edge"] = double(c.edge_edge.size());
+}
+
 // Candidates swept over the step V0 -> V1 (the CCD's, once per Newton iteration: the line search
-// only shortens the step, so boxes over the whole step cover it).
+// only shortens the step, so boxes over the whole step cover it). broad_phase.hpp's generic
+// functions, which rebuild both sides' trees per call: what body-body contact uses. Ball against
+// rim and backboard in the simulator goes through BM_StaticMeshQuery's path instead.
 void BM_BroadPhase(benchmark::State& state) {
   const World& w = world();
   std::size_t vt = 0, ee = 0;
@@ -146,6 +189,23 @@ void BM_BroadPhaseStatic(benchmark::State& state) {
   state.counters["edge_edge"] = double(ee);
 }
 BENCHMARK(BM_BroadPhaseStatic)->Unit(benchmark::kMillisecond);
+
+// The broad phase the simulator runs for the ball against the rim and the backboard:
+// StaticMeshBroadPhase::query with the obstacles' trees built once, outside the loop, called as
+// MeshObstacleForm calls it. Arg 0: at one configuration, inflated by d_hat (the active set's
+// candidates, once per new iterate); arg 1: swept over the step, inflated by d_hat (max_step_size's
+// CCD candidates, once per line search; is_step_valid asks again with no inflation).
+void BM_StaticMeshQuery(benchmark::State& state) {
+  const BallAndObstacles& b = ball_and_obstacles();
+  const Positions& end = state.range(0) == 1 ? b.ball1 : b.ball0;
+  rbaa::contact::StaticMeshCandidates c;
+  for (auto _ : state) {
+    c = b.obstacles.query(b.ball0, end, b.ball_vertices, b.ball_F, b.ball_E, kDHat);
+    benchmark::DoNotOptimize(c.vertex_triangle.data());
+  }
+  candidate_counters(state, c);
+}
+BENCHMARK(BM_StaticMeshQuery)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // What the contact form does per Newton iteration on the active pairs: classify, squared
 // distance, gradient and Hessian (and the mollifier for edge-edge), for every candidate at V0.
@@ -186,29 +246,42 @@ void BM_NarrowPhaseDerivatives(benchmark::State& state) {
 }
 BENCHMARK(BM_NarrowPhaseDerivatives)->Unit(benchmark::kMillisecond);
 
-// The line search's max_step_size: CCD of every swept candidate over the step V0 -> V1.
+// The line search's max_step_size as MeshObstacleForm runs it: additive CCD of every candidate
+// that StaticMeshBroadPhase::query finds swept over the step V0 -> V1 (inflated by d_hat), the
+// obstacles' points fixed. The query itself runs once, outside (BM_StaticMeshQuery/1 times it).
 void BM_Ccd(benchmark::State& state) {
-  const World& w = world();
-  const auto vt = rbaa::contact::vertex_triangle_candidates(w.V0, w.V1, w.F, kDHat, body_groups());
-  const auto ee = rbaa::contact::edge_edge_candidates(w.V0, w.V1, w.E, kDHat, body_groups());
+  const BallAndObstacles& b = ball_and_obstacles();
+  const rbaa::contact::StaticMeshCandidates c =
+      b.obstacles.query(b.ball0, b.ball1, b.ball_vertices, b.ball_F, b.ball_E, kDHat);
+  const Positions& O = b.obstacles.V();
   double toi = 1;
   for (auto _ : state) {
     toi = 1;
-    for (const auto& c : vt) {
-      const int v[4] = {c.vertex, w.F(c.triangle, 0), w.F(c.triangle, 1), w.F(c.triangle, 2)};
-      toi = std::min(toi, rbaa::contact::point_triangle_max_step_size(
-                              row(w.V0, v[0]), row(w.V0, v[1]), row(w.V0, v[2]), row(w.V0, v[3]),
-                              row(w.V1, v[0]), row(w.V1, v[1]), row(w.V1, v[2]), row(w.V1, v[3])));
+    for (const auto& [v, t] : c.vertex_triangle) {
+      const Triangles& F = b.obstacles.F();
+      const Eigen::Vector3d a = row(O, F(t, 0)), bb = row(O, F(t, 1)), cc = row(O, F(t, 2));
+      toi = std::min(toi, rbaa::contact::point_triangle_max_step_size(row(b.ball0, v), a, bb, cc,
+                                                                      row(b.ball1, v), a, bb, cc));
     }
-    for (const auto& c : ee) {
-      const int v[4] = {w.E(c.edge_a, 0), w.E(c.edge_a, 1), w.E(c.edge_b, 0), w.E(c.edge_b, 1)};
-      toi = std::min(toi, rbaa::contact::edge_edge_max_step_size(
-                              row(w.V0, v[0]), row(w.V0, v[1]), row(w.V0, v[2]), row(w.V0, v[3]),
-                              row(w.V1, v[0]), row(w.V1, v[1]), row(w.V1, v[2]), row(w.V1, v[3])));
+    for (const auto& [t, v] : c.triangle_vertex) {
+      const Eigen::Vector3d p = row(O, v);
+      const int i = b.ball_F(t, 0), j = b.ball_F(t, 1), k = b.ball_F(t, 2);
+      toi = std::min(toi, rbaa::contact::point_triangle_max_step_size(
+                              p, row(b.ball0, i), row(b.ball0, j), row(b.ball0, k), p,
+                              row(b.ball1, i), row(b.ball1, j), row(b.ball1, k)));
+    }
+    for (const auto& [e, oe] : c.edge_edge) {
+      const Edges& E = b.obstacles.E();
+      const Eigen::Vector3d o0 = row(O, E(oe, 0)), o1 = row(O, E(oe, 1));
+      const int i = b.ball_E(e, 0), j = b.ball_E(e, 1);
+      toi = std::min(
+          toi, rbaa::contact::edge_edge_max_step_size(row(b.ball0, i), row(b.ball0, j), o0, o1,
+                                                      row(b.ball1, i), row(b.ball1, j), o0, o1));
     }
     benchmark::DoNotOptimize(toi);
   }
-  state.counters["candidates"] = double(vt.size() + ee.size());
+  state.counters["candidates"] =
+      double(c.vertex_triangle.size() + c.triangle_vertex.size() + c.edge_edge.size());
   state.counters["toi"] = toi;
 }
 BENCHMARK(BM_Ccd)->Unit(benchmark::kMillisecond);
