@@ -33,10 +33,7 @@ namespace {
 /// value 0. Non-finite numbers are already refused in main() with every verb's flags.
 void check_size_flags() {
   // The size flag the chosen input reads, if any.
-  const std::string used = !FLAGS_surface.empty()    ? "volume"
-                           : FLAGS_shape == "sphere" ? "radius"
-                           : FLAGS_shape == "cube"   ? "side"
-                                                     : "";
+  const std::string used = rbaa::mesh_size_key(FLAGS_surface.empty() ? FLAGS_shape : "");
   const std::string input = FLAGS_surface.empty() ? "--shape=" + FLAGS_shape : "--surface";
   const std::pair<const char*, double> sizes[] = {
       {"radius", FLAGS_radius}, {"side", FLAGS_side}, {"volume", FLAGS_volume}};

@@ -288,6 +288,10 @@ TetMesh tetrahedralize(const SurfaceMesh& surface, const MeshingOptions& options
   return best;
 }
 
+const char* mesh_size_key(const std::string& shape) {
+  return shape.empty() ? "volume" : shape == "sphere" ? "radius" : shape == "cube" ? "side" : "";
+}
+
 int default_tet_count(const std::string& shape) {
   static const std::map<std::string, int> counts = {
       {"sphere", 9056}, {"star", 1506}, {"bunny", 2274}, {"cube", 10164}, {"bat", 9098}};

@@ -15,6 +15,7 @@
 #include "rbaa/error.hpp"
 #include "rbaa/io/text_reader.hpp"
 #include "rbaa/io/triangle_soup.hpp"
+#include "rbaa/mesh/tetrahedralize.hpp"
 
 namespace rbaa {
 namespace {
@@ -399,9 +400,10 @@ MeshSource read_mesh_source(const YAML::Node& node, const ConfigOrigin& source,
   auto unused = [&](const char* name, bool given, bool used) {
     if (given && !used) m.fail(m.child(name), name, std::string("does not apply to ") + what);
   };
-  unused("radius", mesh.radius > 0, mesh.shape == "sphere");
-  unused("side", mesh.side > 0, mesh.shape == "cube");
-  unused("volume", mesh.volume > 0, !mesh.surface_file.empty());
+  const std::string size = mesh.mesh_file.empty() ? mesh_size_key(mesh.shape) : "";
+  unused("radius", mesh.radius > 0, size == "radius");
+  unused("side", mesh.side > 0, size == "side");
+  unused("volume", mesh.volume > 0, size == "volume");
   unused("target_tets", mesh.target_tets > 0, mesh.mesh_file.empty());
   m.finish();
   return mesh;

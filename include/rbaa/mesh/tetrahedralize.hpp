@@ -39,6 +39,11 @@ struct ShapeParameters {
   double side = 0;    ///< cube (default 0.05)
 };
 
+/// The one size a mesh source reads: "radius" for the sphere, "side" for the cube, "volume" for a
+/// surface file (`shape` empty), "" for the other shapes. A size given to another source is not
+/// read (the config and `rbaa mesh` refuse it by this rule).
+const char* mesh_size_key(const std::string& shape);
+
 /// The paper's tet counts: ball 9056, star 1506, bunny 2274, cube 10164, bat 9098.
 int default_tet_count(const std::string& shape);
 
