@@ -274,14 +274,22 @@ class StudyRunner {
     std::shared_ptr<const TetMesh> finest;
     Measurement space_ref;
     if (scene_.mesh.mesh_file.empty()) {
+      const int base = mesh_sweep_base(scene_, *config_mesh_);
       std::vector<double> factors = options_.mesh_factors;
       if (factors.empty()) {
-        factors = {0.25, 0.5, 1.0, 2.0};
+        // The default sweep's coarse meshes stay at the smallest mesh or above, as its time steps
+        // stay in their range (0.25 x a 120-tet config is 50 tets, not 30; on an 80-tet config
+        // 0.25 and 0.5 are one point), and are left out when that is no coarser than the config's
+        // mesh. Given factors below it were refused in run_study.
+        const double smallest = static_cast<double>(kSmallestMeshTets) / base;
+        for (double f : {0.25, 0.5}) {
+          if (smallest < 1) factors.push_back(std::max(f, smallest));
+        }
+        factors.push_back(2.0);
         if (options_.full) factors.push_back(4.0);
       }
       factors.push_back(1.0);
       factors = unique_sorted(factors, false);
-      const int base = mesh_sweep_base(scene_, *config_mesh_);
       std::vector<std::pair<Scene, Measurement>> runs;
       for (double factor : factors) {
         Scene s = scene_;

@@ -104,6 +104,27 @@ TEST_F(CliPaths, StudyRefusesASweptValueOutsideItsRange) {
   EXPECT_NE(slurp(path("study/study.csv")).find("\ntime_step,h=0.025,"), std::string::npos);
 }
 
+// The default mesh sweep's 0.25x and 0.5x lost their 50-tet floor when given factors below it
+// became a refusal: a 120-tet config meshed 30 tets. They are raised to the floor (on an 80-tet
+// config both to one 50-tet point), as the default time steps are clamped to their range.
+TEST_F(CliPaths, StudyKeepsItsDefaultMeshesAtTheSmallestMeshOrAbove) {
+  const std::string rest = " --time_steps=0.01 --newton_tolerances=1e-8 --reference_divisor=2";
+  for (const auto& [tets, targets] : std::vector<std::pair<std::string, std::vector<int>>>{
+           {"120", {50, 60, 240}}, {"80", {50, 160}}}) {
+    std::string ball = kTinyBall;
+    ball.replace(ball.find("target_tets: 300"), 16, "target_tets: " + tets);
+    const std::string config = write("ball" + tets + ".yaml", ball);
+    const Result r = run("study --config=" + config + " --out=" + path("study" + tets) + rest);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::vector<int> meshed;
+    for (size_t at = r.err.find("(target "); at != std::string::npos;
+         at = r.err.find("(target ", at + 1)) {
+      meshed.push_back(std::stoi(r.err.substr(at + 8)));
+    }
+    EXPECT_EQ(meshed, targets) << r.err;
+  }
+}
+
 // study.md and the Pareto plot's legend said "h / 16" whatever --reference_divisor was.
 TEST_F(CliPaths, StudyTextNamesTheReferenceDivisorItRan) {
   const std::string config = write("ball.yaml", kTinyBall);

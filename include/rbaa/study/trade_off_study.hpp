@@ -4,7 +4,7 @@
 // the config's values:
 //
 //   time step   h from 1/30 down (to 1e-4 with --full), each rounded so that T / h is an integer
-//   mesh        about 0.25x .. 2x (4x with --full) the config's tet count
+//   mesh        about 0.25x .. 2x (4x with --full) the config's tet count, none below 50 tets
 //   integrator  BDF-1, BDF-2          mass  lumped, consistent
 //   Newton tolerance                  factor storage  store, rebuild (same numbers, other time)
 //
