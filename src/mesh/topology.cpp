@@ -37,26 +37,37 @@ std::vector<FaceRecord> sorted_faces(const TetMesh& mesh) {
   return faces;
 }
 
-}  // namespace
-
-Tets face_adjacency(const TetMesh& mesh) {
-  Tets adj = Tets::Constant(mesh.num_tets(), 4, -1);
-  const std::vector<FaceRecord> faces = sorted_faces(mesh);
+// Calls group(i, j) for each run faces[i, j) of one face (the same sorted vertices); refuses a
+// face shared by more than two tets, naming `source` (or "non-manifold tet mesh") first.
+template <typename Group>
+void for_each_face(const std::vector<FaceRecord>& faces, const std::string& source, Group group) {
   for (size_t i = 0; i < faces.size();) {
     size_t j = i + 1;
     while (j < faces.size() && faces[j].key == faces[i].key) ++j;
     if (j - i > 2) {
       std::ostringstream msg;
-      msg << "non-manifold tet mesh: face (" << faces[i].key[0] << ", " << faces[i].key[1] << ", "
-          << faces[i].key[2] << ") is shared by " << (j - i) << " tetrahedra";
+      msg << (source.empty() ? "non-manifold tet mesh" : source) << ": face (" << faces[i].key[0]
+          << ", " << faces[i].key[1] << ", " << faces[i].key[2] << ") is shared by " << (j - i)
+          << " tetrahedra (tets " << faces[i].element << ", " << faces[i + 1].element << ", "
+          << faces[i + 2].element << (j - i > 3 ? ", ..." : "") << ")";
       throw InputError(msg.str());
     }
+    group(i, j);
+    i = j;
+  }
+}
+
+}  // namespace
+
+Tets face_adjacency(const TetMesh& mesh) {
+  Tets adj = Tets::Constant(mesh.num_tets(), 4, -1);
+  const std::vector<FaceRecord> faces = sorted_faces(mesh);
+  for_each_face(faces, "", [&](size_t i, size_t j) {
     if (j - i == 2) {
       adj(faces[i].element, faces[i].local) = faces[i + 1].element;
       adj(faces[i + 1].element, faces[i + 1].local) = faces[i].element;
     }
-    i = j;
-  }
+  });
   return adj;
 }
 
@@ -67,30 +78,20 @@ void validate_tet_faces(const TetMesh& mesh, const std::string& source) {
                               mesh.T(f.element, kFace[f.local][1]),
                               mesh.T(f.element, kFace[f.local][2])};
   };
-  for (size_t i = 0; i < faces.size();) {
-    size_t j = i + 1;
-    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
-    std::ostringstream msg;
-    msg << source << ": face (" << faces[i].key[0] << ", " << faces[i].key[1] << ", "
-        << faces[i].key[2] << ") ";
-    if (j - i > 2) {
-      msg << "is shared by " << (j - i) << " tetrahedra (tets " << faces[i].element << ", "
-          << faces[i + 1].element << ", " << faces[i + 2].element << ")";
+  for_each_face(faces, source, [&](size_t i, size_t j) {
+    if (j - i != 2) return;
+    // Outward from both tets: the two copies run in opposite senses when the tets lie on
+    // opposite sides. The same sense puts both on one side: they overlap (or repeat).
+    const std::array<int, 3> a = oriented(faces[i]), b = oriented(faces[i + 1]);
+    const int r = static_cast<int>(std::find(b.begin(), b.end(), a[0]) - b.begin());
+    if (b[(r + 1) % 3] == a[1]) {
+      std::ostringstream msg;
+      msg << source << ": face (" << faces[i].key[0] << ", " << faces[i].key[1] << ", "
+          << faces[i].key[2] << ") has tets " << faces[i].element << " and "
+          << faces[i + 1].element << " on the same side: they overlap";
       throw InputError(msg.str());
     }
-    if (j - i == 2) {
-      // Outward from both tets: the two copies run in opposite senses when the tets lie on
-      // opposite sides. The same sense puts both on one side: they overlap (or repeat).
-      const std::array<int, 3> a = oriented(faces[i]), b = oriented(faces[i + 1]);
-      const int r = static_cast<int>(std::find(b.begin(), b.end(), a[0]) - b.begin());
-      if (b[(r + 1) % 3] == a[1]) {
-        msg << "has tets " << faces[i].element << " and " << faces[i + 1].element
-            << " on the same side: they overlap";
-        throw InputError(msg.str());
-      }
-    }
-    i = j;
-  }
+  });
 }
 
 Faces boundary_faces(const TetMesh& mesh) {
@@ -110,29 +111,40 @@ Faces boundary_faces(const TetMesh& mesh) {
   return F;
 }
 
-std::string surface_mismatch(const TetMesh& reference, const TetMesh& adversarial, const std::string& what) {
+std::string surface_mismatch(const TetMesh& reference, const TetMesh& adversarial,
+                             const std::string& what) {
   const double size = bounding_box_diagonal(reference);
   const double tol = 1e-9 * size;
-  const Eigen::RowVector3d dlo = reference.V.colwise().minCoeff() - adversarial.V.colwise().minCoeff();
-  const Eigen::RowVector3d dhi = reference.V.colwise().maxCoeff() - adversarial.V.colwise().maxCoeff();
-  if (dlo.cwiseAbs().maxCoeff() > tol || dhi.cwiseAbs().maxCoeff() > tol) {
-    return what + ": the adversarial object's bounding box differs from the scene's "
-           "reference object (is it placed at the scene's initial pose, from the same scene?)";
+  const Eigen::RowVector3d dlo =
+      reference.V.colwise().minCoeff() - adversarial.V.colwise().minCoeff();
+  const Eigen::RowVector3d dhi =
+      reference.V.colwise().maxCoeff() - adversarial.V.colwise().maxCoeff();
+  const double off = std::max(dlo.cwiseAbs().maxCoeff(), dhi.cwiseAbs().maxCoeff());
+  if (off > tol) {
+    std::ostringstream msg;
+    msg << what << ": the adversarial object's bounding box differs from the scene's reference "
+        << "object's by up to " << off << " m (is it placed at the scene's initial pose, from "
+        << "the same scene?)";
+    return msg.str();
   }
   std::vector<std::array<double, 3>> adv(adversarial.num_vertices());
-  for (int i = 0; i < adversarial.num_vertices(); ++i) adv[i] = {adversarial.V(i, 0), adversarial.V(i, 1), adversarial.V(i, 2)};
+  for (int i = 0; i < adversarial.num_vertices(); ++i) {
+    adv[i] = {adversarial.V(i, 0), adversarial.V(i, 1), adversarial.V(i, 2)};
+  }
   std::sort(adv.begin(), adv.end());
   for (int v : boundary_vertices(reference)) {
     const std::array<double, 3> p = {reference.V(v, 0), reference.V(v, 1), reference.V(v, 2)};
-    auto it = std::lower_bound(adv.begin(), adv.end(), std::array<double, 3>{p[0] - tol, -INFINITY, -INFINITY});
+    auto it = std::lower_bound(adv.begin(), adv.end(),
+                               std::array<double, 3>{p[0] - tol, -INFINITY, -INFINITY});
     bool found = false;
     for (; it != adv.end() && (*it)[0] <= p[0] + tol && !found; ++it) {
       found = std::abs((*it)[1] - p[1]) <= tol && std::abs((*it)[2] - p[2]) <= tol;
     }
     if (!found) {
       std::ostringstream msg;
-      msg << what << ": the adversarial object's surface is not the reference's (reference surface vertex "
-          << v << " at (" << p[0] << ", " << p[1] << ", " << p[2] << ") is missing)";
+      msg << what << ": the adversarial object's surface is not the reference's (reference "
+          << "surface vertex " << v << " at (" << p[0] << ", " << p[1] << ", " << p[2]
+          << ") is missing)";
       return msg.str();
     }
   }

@@ -121,7 +121,7 @@ TetMesh turn_into_scene_pose(const Scene& scene, const TetMesh& reference, const
   const Eigen::Matrix3d R =
       Eigen::AngleAxisd(scene.rotation_angle_deg * M_PI / 180.0, scene.rotation_axis.normalized())
           .toRotationMatrix();
-  const Eigen::RowVector3d middle = 0.5 * (given.V.colwise().minCoeff() + given.V.colwise().maxCoeff());
+  const Eigen::RowVector3d middle = box_middle(given);
   TetMesh turned = given;
   turned.V = ((given.V.rowwise() - middle) * R.transpose()).rowwise() + middle;
   return (extent(turned) - want).cwiseAbs().maxCoeff() <= tol ? turned : given;
