@@ -18,8 +18,9 @@ DEFINE_bool(full, false, "study: the full sweep (h down to 1e-4, meshes up to 4x
 DEFINE_double(memory_budget_gb, 8.0, "study: stored factorisations past this size (GB) are rebuilt "
                                      "in the backward pass instead");
 DEFINE_int32(reference_divisor, 16, "study: the reference in time runs at h / this");
-DEFINE_string(time_steps, "", "study: comma-separated time steps (s) instead of the default sweep, "
-                              "each from 1e-4 to 1/30 s and rounded to T / n, n whole");
+DEFINE_string(time_steps, "",
+              "study: comma-separated time steps (s) instead of the default sweep, each rounded "
+              "to T / n, n whole, and from 1e-4 to 1/30 s as given and as rounded");
 DEFINE_string(mesh_factors, "", "study: comma-separated multiples of the config's tet count instead "
                                 "of the default sweep (the largest is the reference in space; each "
                                 "at least 50 tets)");

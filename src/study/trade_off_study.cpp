@@ -92,6 +92,23 @@ double snap_time_step(double h, double T) {
 constexpr double kLargestTimeStep = 1.0 / 30, kSmallestTimeStep = 1e-4;
 constexpr int kSmallestMeshTets = 50;
 
+// A step typed as 1/30 to 16 digits, or T / n of one, may round just past a bound.
+bool in_time_step_range(double h) {
+  return h >= kSmallestTimeStep * (1 - 1e-12) && h <= kLargestTimeStep * (1 + 1e-12);
+}
+
+// snap_time_step, but to the nearest T / n within the range: the default sweep's 1/30 s on
+// T = 0.04 s would round to T / 1 = 0.04 s.
+double snap_time_step_in_range(double h, double T) {
+  double n = std::max(1.0, std::round(T / h));
+  if (T / n > kLargestTimeStep * (1 + 1e-12)) {
+    n = std::ceil(T / kLargestTimeStep * (1 - 1e-12));
+  } else if (T / n < kSmallestTimeStep * (1 - 1e-12)) {
+    n = std::max(1.0, std::floor(T / kSmallestTimeStep * (1 + 1e-12)));
+  }
+  return T / n;
+}
+
 // The mesh sweep's base count: the config's mesh.target_tets, or its mesh's count without one.
 int mesh_sweep_base(const Scene& scene, const TetMesh& config_mesh) {
   return scene.mesh.target_tets > 0 ? scene.mesh.target_tets : config_mesh.num_tets();
@@ -239,9 +256,10 @@ class StudyRunner {
       if (options_.full) {
         for (double h : {1.0 / 60, h0 / 8, 1e-4}) hs.push_back(h);
       }
-      // The default sweep's multiples of h0 stay within the range (the star's 2 h0 = 1/15 s
-      // becomes 1/30 s, its own step); given steps outside it were refused in run_study.
-      for (double& h : hs) h = std::clamp(h, kSmallestTimeStep, kLargestTimeStep);
+      // The default sweep's steps stay within the range once rounded to T / n (the star's
+      // 2 h0 = 1/15 s becomes 1/30 s, its own step; 1/30 s on T = 0.04 s becomes T / 2, not
+      // T / 1); given steps outside it, as given or rounded, were refused in run_study.
+      for (double& h : hs) h = snap_time_step_in_range(h, T);
     }
     for (double& h : hs) {
       const double snapped = snap_time_step(h, T);
@@ -646,11 +664,16 @@ StudyResult run_study(const Scene& scene, const StudyOptions& options) {
                      "scenes with further bodies are not supported by it yet");
   }
   if (!(options.reference_time_divisor >= 2)) throw InputError("study: the reference time divisor must be >= 2");
+  const std::string range =
+      "outside the study's range of steps, " + number(kSmallestTimeStep) + " to 1/30 s";
   for (double h : options.time_steps) {
-    // A step typed as 1/30 to 16 digits may round just above it.
-    if (!(h >= kSmallestTimeStep && h <= kLargestTimeStep * (1 + 1e-12))) {
-      throw InputError("--time_steps=" + number(h, 12) + ": outside the study's range of steps, " +
-                       number(kSmallestTimeStep) + " to 1/30 s");
+    if (!in_time_step_range(h)) throw InputError("--time_steps=" + number(h, 12) + ": " + range);
+    // The step that would run: 0.03 s on T = 0.04 s is T / 1.
+    const double snapped = snap_time_step(h, scene.duration);
+    if (!in_time_step_range(snapped)) {
+      throw InputError("--time_steps=" + number(h, 12) + ": rounded to " + number(snapped) +
+                       " s (T / " + std::to_string(std::lround(scene.duration / snapped)) +
+                       ") so that the run ends at T = " + number(scene.duration) + " s, " + range);
     }
   }
   StudyRunner runner(scene, options);

@@ -104,6 +104,29 @@ TEST_F(CliPaths, StudyRefusesASweptValueOutsideItsRange) {
   EXPECT_NE(slurp(path("study/study.csv")).find("\ntime_step,h=0.025,"), std::string::npos);
 }
 
+// The range held the step as given, not as rounded to T / n: on T = 0.04 s, --time_steps=0.03
+// (and the default sweep's 1/30 s) ran at T / 1 = 0.04 s, above 1/30 s. The given step is
+// refused naming both; the default one is rounded to a T / n within the range (T / 2).
+TEST_F(CliPaths, StudyRefusesAStepThatRoundsOutOfItsRange) {
+  std::string ball = kTinyBall;
+  ball.replace(ball.find("duration: 0.05"), 14, "duration: 0.04");
+  const std::string config = write("ball.yaml", ball);
+  const std::string rest =
+      " --mesh_factors=1 --newton_tolerances=1e-8 --reference_divisor=2 --out=" + path("study");
+  const std::string args = "study --config=" + config + " --time_steps=0.01,0.03" + rest;
+  expect_failure(args,
+                 "--time_steps=0.03: rounded to 0.04 s (T / 1) so that the run ends at T = 0.04 s, "
+                 "outside the study's range of steps, 0.0001 to 1/30 s");
+  EXPECT_EQ(run(args).exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists(path("study")));
+
+  const Result r = run("study --config=" + config + rest);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string csv = slurp(path("study/study.csv"));
+  EXPECT_EQ(csv.find("\ntime_step,h=0.04,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\ntime_step,h=0.02,"), std::string::npos) << csv;
+}
+
 // The default mesh sweep's 0.25x and 0.5x lost their 50-tet floor when given factors below it
 // became a refusal: a 120-tet config meshed 30 tets. They are raised to the floor (on an 80-tet
 // config both to one 50-tet point), as the default time steps are clamped to their range.

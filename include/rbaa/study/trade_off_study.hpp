@@ -41,7 +41,8 @@ struct StudyOptions {
   std::size_t memory_budget_bytes = std::size_t(8) << 30;  ///< stored factors above: rebuild
   int reference_time_divisor = 16;        ///< the reference in time runs at h / this
   /// Overrides of the swept values (empty: the defaults above). run_study refuses (InputError) a
-  /// time step outside [1e-4, 1/30] s and a mesh factor that asks for fewer than 50 tets.
+  /// time step outside [1e-4, 1/30] s, as given or as rounded to T / n, and a mesh factor that
+  /// asks for fewer than 50 tets.
   std::vector<double> time_steps;         ///< s
   std::vector<double> mesh_factors;       ///< x the config's tet count (mesh.target_tets)
   std::vector<double> newton_tolerances;  ///< relative, like newton.tolerance
