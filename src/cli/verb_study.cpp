@@ -83,7 +83,7 @@ RBAA_REGISTER_VERB(study, rbaa::cli::Verb{
     "and of a gradient, and the accuracy against a fine reference (the config mesh at h/16 in\n"
     "time, 16 being --reference_divisor; the finest mesh at the config's h in space):\n"
     "centre-of-mass and orientation error at T and the cosine of the gradient with the\n"
-    "reference gradient. With --adversarial, also the adversarial object's gap at h, h/4, h/16\n"
-    "and on a finer mesh. Writes DIR/study.csv, DIR/study.md, DIR/pareto.gp + pareto.png and\n"
-    "DIR/survival.csv.",
+    "reference gradient. With --adversarial, also the adversarial object's gap at h, h/4,\n"
+    "h / --reference_divisor and on a finer mesh. Writes DIR/study.csv, DIR/study.md,\n"
+    "DIR/pareto.gp + pareto.png and DIR/survival.csv.",
     flags(), run_study_verb});

@@ -20,10 +20,9 @@
 //
 // Stored factorisations switch to rebuilt ones when steps x one factor would exceed the memory
 // budget. With an adversarial object the study also asks whether the attack survives
-// refinement: its deformable gap and angle against the reference at h, h/4 and h/16 (the
-// divisor), and on the
-// finest mesh of the mesh sweep with the materials carried over element-wise (objects without
-// voids only).
+// refinement: its deformable gap and angle against the reference at h, h/4 and
+// h / reference_time_divisor, and on the finest mesh of the mesh sweep with the materials
+// carried over element-wise (objects without voids only).
 
 #include <Eigen/Core>
 
