@@ -60,7 +60,12 @@ std::vector<RowOutcome> read_sweep_outcomes(const SweepGrid& grid, const std::st
                        that_row + " (" + joined(args) +
                        "): use another --out, or remove that folder");
     }
-    if (o.status != RowStatus::kPending && !o.config_fingerprint.empty() &&
+    // Only a finished row's results stand for the config it ran on. A failed or interrupted row
+    // runs again, on the config as it is now: its failure may be what the edit mended (a
+    // mesh.file created since). An attack row among them resumes its checkpoint, and rbaa attack
+    // refuses a checkpoint of another scene itself (attack_loop.cpp, load_checkpoint), so that row
+    // fails naming both fingerprints rather than going on from another scene's design.
+    if (o.status == RowStatus::kOk && !o.config_fingerprint.empty() &&
         o.config_fingerprint != fingerprint) {
       throw InputError(dir + " holds a run of other settings than " + that_row + ": " +
                        grid.config + " or a file it builds on changed since (config fingerprint " +

@@ -10,6 +10,7 @@
 #include <deque>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "rbaa/error.hpp"
@@ -72,6 +73,7 @@ SweepSummary run_sweep(const SweepGrid& grid, const SweepOptions& options,
   progress.skipped = progress.done = summary.skipped;
 
   std::map<int, std::pair<int, Clock::time_point>> running;  // pid -> (row, start)
+  std::set<int> resumed;                                     // rows given --resume here
   double finished_seconds = 0;
   int finished_here = 0;
   auto report = [&](const RowOutcome* ended, int started) {
@@ -103,6 +105,7 @@ SweepSummary run_sweep(const SweepGrid& grid, const SweepOptions& options,
       const int pid = start_row_process(options.executable, argv, dir, options.split.threads);
       running[pid] = {index, Clock::now()};
       progress.resumed = argv.size() > o.arguments.size();
+      if (progress.resumed) resumed.insert(index);
       report(nullptr, index);
       progress.resumed = false;
     }
@@ -128,6 +131,12 @@ SweepSummary run_sweep(const SweepGrid& grid, const SweepOptions& options,
     } else {
       o.status = RowStatus::kFailed;
       o.error = row_error(dir, status);
+      // The --resume was the sweep's, not the user's: the attack's advice to drop it (a
+      // checkpoint of another scene, the config edited since) cannot be followed here.
+      if (resumed.count(index)) {
+        o.error +=
+            " (the sweep resumed the row's checkpoint.json: remove it to start the row over)";
+      }
       ++summary.failed;
       ++progress.failed;
     }

@@ -238,6 +238,76 @@ TEST_F(CliSweep, AnInterruptedAttackRowContinuesFromItsCheckpoint) {
       << again.err;
 }
 
+// The review's case: a row failed because its config's mesh.file did not exist yet; once the
+// user made it, the sweep refused the row as one of other settings ("holds a run of other
+// settings ... use another --out") instead of re-running it as its help promises. A failed row
+// now runs again on the config as it is.
+TEST_F(CliSweep, ARowThatFailedRunsAgainOnTheMendedConfig) {
+  std::string ball = rbaa_cli_test::kTinyBall;
+  const std::string shape = "shape: sphere, radius: 0.1, target_tets: 300";
+  ball.replace(ball.find(shape), shape.size(), "file: ball.msh");
+  const std::string config = write_file("ball.yaml", ball);
+  const std::string grid =
+      write_file("grid.yaml", "config: " + config +
+                                  "\nverb: simulate\nflags: {vtu_every: 0, progress: false}\n"
+                                  "rows: [{time.step: 0.01}]\n");
+  const std::string args = "sweep --grid=" + grid + " --out=" + path("out");
+  const Result missing = run(args);
+  EXPECT_EQ(missing.exit_code, 1) << missing.err;
+  EXPECT_NE(missing.err.find("ball.msh: cannot read"), std::string::npos) << missing.err;
+
+  ASSERT_EQ(
+      run("mesh --shape=sphere --radius=0.1 --target_tets=300 --out=" + path("ball.msh")).exit_code,
+      0);
+  const Result mended = run(args);
+  EXPECT_EQ(mended.exit_code, 0) << mended.err;
+  EXPECT_NE(mended.err.find("1 row: 1 ok, 0 skipped"), std::string::npos) << mended.err;
+  EXPECT_EQ(report("out", 0)["steps"], 5);
+}
+
+// An interrupted attack row of a config edited since is resumed, and rbaa attack refuses the
+// checkpoint of another scene itself: the row fails naming both fingerprints, with the sweep's
+// own advice (the attack's "drop --resume" is not the user's to follow), rather than going on
+// from the old scene's design. Without its checkpoint the row starts over and finishes.
+TEST_F(CliSweep, AnAttackRowsCheckpointOfAnEditedSceneIsRefusedNotResumed) {
+  const std::string ball = write_file("ball.yaml", rbaa_cli_test::kTinyBall);
+  const std::string grid = write_file(
+      "grid.yaml", "config: " + ball +
+                       "\nverb: attack\nset: {attack.iterations: 2}\nrows: [{attack.seed: 2}]\n");
+  const std::string args = "sweep --grid=" + grid + " --out=" + path("out");
+  ASSERT_EQ(run(args).exit_code, 0);
+  ASSERT_TRUE(fs::exists(path("out/row-000/checkpoint.json")));
+  nlohmann::json marker = nlohmann::json::parse(slurp(path("out/row-000/sweep_row.json")));
+  marker["status"] = "running";
+  write_file("out/row-000/sweep_row.json", marker.dump(2));
+  fs::remove(path("out/row-000/report.json"));
+  std::string slower = rbaa_cli_test::kTinyBall;
+  const std::string velocity = "velocity: [0, 2.0, 0]";
+  slower.replace(slower.find(velocity), velocity.size(), "velocity: [0, 1.5, 0]");
+  write_file("ball.yaml", slower);
+
+  const Result resumed = run(args);
+  EXPECT_EQ(resumed.exit_code, 1) << resumed.err;
+  EXPECT_NE(resumed.err.find("resuming its checkpoint"), std::string::npos) << resumed.err;
+  const auto table = csv_rows(slurp(path("out/results.csv")));
+  ASSERT_EQ(table.size(), 2u);
+  const std::string error = table[1][column(table[0], "error")];
+  EXPECT_NE(error.find("checkpoint.json: checkpoint belongs to another scene or other settings "
+                       "(fingerprint "),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("(the sweep resumed the row's checkpoint.json: remove it to start the row "
+                       "over)"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(fs::exists(path("out/row-000/report.json")));
+
+  fs::remove(path("out/row-000/checkpoint.json"));
+  const Result over = run(args);
+  EXPECT_EQ(over.exit_code, 0) << over.err;
+  EXPECT_EQ(report("out", 0)["iterations"], 2);
+}
+
 TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {
   const std::string head = "config: " + kStar + "\nverb: simulate\n";
   auto fails = [&](const std::string& name, const std::string& text, const std::string& message) {

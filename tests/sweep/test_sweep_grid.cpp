@@ -293,6 +293,31 @@ TEST_F(SweepFiles, AnEditedConfigOrBaseIsAnotherRowButACommentIsNot) {
   EXPECT_EQ(rbaa::read_sweep_outcomes(g, out)[0].status, rbaa::RowStatus::kOk);
 }
 
+// Only a finished row stands for the config it ran on. A row that failed (its config's mesh.file
+// missing, say) or was interrupted runs again on the config as it is now: refusing it after the
+// user mended the config contradicted "re-runs the failed ones".
+TEST_F(SweepFiles, AFailedOrInterruptedRowOfAnEditedConfigRunsAgain) {
+  const auto g = parse("config: star.yaml\nverb: simulate\nproduct: {time.duration: [0.1, 0.2]}\n");
+  const std::string out = dir_.string(), now = rbaa::config_fingerprint(g);
+  const std::string then = "0123456789abcdef";
+  ASSERT_NE(now, then);
+  const std::string error = "rbaa simulate: error: ball.msh: cannot read";
+  rbaa::RowOutcome failed{
+      0, rbaa::RowStatus::kFailed, rbaa::row_arguments(g, g.rows[0]), error, 2, 0.1, then};
+  rbaa::write_row_outcome(out + "/row-000", failed);
+  rbaa::RowOutcome running{
+      1, rbaa::RowStatus::kRunning, rbaa::row_arguments(g, g.rows[1]), "", 0, 0, then};
+  rbaa::write_row_outcome(out + "/row-001", running);
+  const auto outcomes = rbaa::read_sweep_outcomes(g, out);
+  EXPECT_EQ(outcomes[0].status, rbaa::RowStatus::kFailed);
+  EXPECT_EQ(outcomes[1].status, rbaa::RowStatus::kRunning);
+  for (const auto& o : outcomes) EXPECT_EQ(o.config_fingerprint, now);
+  // The same row finished is refused.
+  running.status = rbaa::RowStatus::kOk;
+  rbaa::write_row_outcome(out + "/row-001", running);
+  EXPECT_THROW(rbaa::read_sweep_outcomes(g, out), rbaa::InputError);
+}
+
 // A swept key's cell is the value the row ran with: its own, else the grid's set: value.
 TEST_F(SweepFiles, ResultsTableFillsASweptKeyFromSetWhereTheRowHasNone) {
   const auto g = parse(

@@ -50,6 +50,8 @@ std::vector<std::string> row_process_arguments(const SweepGrid& grid,
 
 /// Runs the rows (all, or only_row) and, for a whole sweep, rewrites DIR/results.csv after every
 /// row that ends. Throws InputError when DIR holds rows of another grid (read_sweep_outcomes).
+/// A row that fails after the sweep gave it --resume says so in its error, with how to start it
+/// over (remove its checkpoint.json).
 SweepSummary run_sweep(const SweepGrid& grid, const SweepOptions& options,
                        const std::function<void(const SweepProgress&)>& on_progress = {});
 
