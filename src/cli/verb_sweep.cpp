@@ -195,8 +195,9 @@ RBAA_REGISTER_VERB(
         "skips finished rows and re-runs failed ones (an attack row with a checkpoint.json\n"
         "goes on from it: --resume); a failed row does not stop the others.\n"
         "A row of other settings in DIR (the grid edited since, or for a finished row the\n"
-        "config or a file it builds on) is refused: use another --out. Exit code 0 when every\n"
-        "row is ok, 1 when one failed, 2 on bad input.\n"
+        "config, a file it builds on or reads, or a file its values or flags name) is\n"
+        "refused: use another --out. Exit code 0 when every row is ok, 1 when one failed,\n"
+        "2 on bad input.\n"
         "--emit=slurm writes DIR/slurm/array.sbatch (one array task per row: "
         "--row=$SLURM_ARRAY_TASK_ID),\n"
         "merge.sbatch (--merge, after the array) and submit.sh, which submits both.",

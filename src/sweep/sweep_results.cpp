@@ -47,10 +47,12 @@ std::string figure(const nlohmann::json& report, const std::string& dotted) {
 }  // namespace
 
 std::vector<RowOutcome> read_sweep_outcomes(const SweepGrid& grid, const std::string& out_dir) {
-  // The arguments name the config by its path; its contents are in the fingerprint.
-  const std::string fingerprint = config_fingerprint(grid);
+  // The arguments name the config and the files a row names by their paths; their contents are
+  // in the fingerprint.
+  const std::string grid_fingerprint = config_fingerprint(grid);
   std::vector<RowOutcome> outcomes;
   for (const SweepRow& row : grid.rows) {
+    const std::string fingerprint = row_config_fingerprint(grid_fingerprint, grid, row);
     const std::string dir = (fs::path(out_dir) / row_folder_name(row.index)).string();
     RowOutcome o = read_row_outcome(dir, row.index);
     const auto args = row_arguments(grid, row);
@@ -67,8 +69,11 @@ std::vector<RowOutcome> read_sweep_outcomes(const SweepGrid& grid, const std::st
     // fails naming both fingerprints rather than going on from another scene's design.
     if (o.status == RowStatus::kOk && !o.config_fingerprint.empty() &&
         o.config_fingerprint != fingerprint) {
+      const std::string files = fingerprint == grid_fingerprint
+                                    ? " or a file it builds on"
+                                    : ", a file it builds on or one the row's values name";
       throw InputError(dir + " holds a run of other settings than " + that_row + ": " +
-                       grid.config + " or a file it builds on changed since (config fingerprint " +
+                       grid.config + files + " changed since (config fingerprint " +
                        o.config_fingerprint + ", now " + fingerprint +
                        "): use another --out, or remove that folder");
     }

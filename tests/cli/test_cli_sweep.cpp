@@ -265,6 +265,32 @@ TEST_F(CliSweep, ARowThatFailedRunsAgainOnTheMendedConfig) {
   EXPECT_EQ(report("out", 0)["steps"], 5);
 }
 
+// The review's case: a finished row that read another mesh through its own override
+// (rows: [{mesh.file: b2.msh}]) was skipped as finished after b2.msh was meshed again, its
+// results standing for the old mesh. The row's fingerprint now holds the file's bytes.
+TEST_F(CliSweep, AFinishedRowWhoseOwnMeshFileChangedIsNotTakenAsFinished) {
+  std::string ball = rbaa_cli_test::kTinyBall;
+  const std::string shape = "shape: sphere, radius: 0.1, target_tets: 300";
+  ball.replace(ball.find(shape), shape.size(), "file: ball.msh");
+  const std::string config = write_file("ball.yaml", ball);
+  const std::string mesh = "mesh --shape=sphere --radius=0.1 --out=";
+  ASSERT_EQ(run(mesh + path("ball.msh") + " --target_tets=300").exit_code, 0);
+  ASSERT_EQ(run(mesh + path("b2.msh") + " --target_tets=200").exit_code, 0);
+  const std::string grid =
+      write_file("grid.yaml", "config: " + config +
+                                  "\nverb: simulate\nflags: {vtu_every: 0, progress: false}\n"
+                                  "rows: [{mesh.file: b2.msh}]\n");
+  const std::string args = "sweep --grid=" + grid + " --out=" + path("out");
+  ASSERT_EQ(run(args).exit_code, 0);
+  EXPECT_NE(run(args).err.find("1 row: 0 ok, 1 skipped (finished earlier)"), std::string::npos);
+
+  ASSERT_EQ(run(mesh + path("b2.msh") + " --target_tets=400").exit_code, 0);
+  expect_failure(args, "row-000 holds a run of other settings than " + grid +
+                           "'s row 0: " + config +
+                           ", a file it builds on or one the row's values name changed "
+                           "since (config fingerprint ");
+}
+
 // An interrupted attack row of a config edited since is resumed, and rbaa attack refuses the
 // checkpoint of another scene itself: the row fails naming both fingerprints, with the sweep's
 // own advice (the attack's "drop --resume" is not the user's to follow), rather than going on

@@ -318,6 +318,70 @@ TEST_F(SweepFiles, AFailedOrInterruptedRowOfAnEditedConfigRunsAgain) {
   EXPECT_THROW(rbaa::read_sweep_outcomes(g, out), rbaa::InputError);
 }
 
+// A file a row's own value or the grid's flags name counted by its path only (the fingerprint
+// loaded the scene with set: alone), though README said an edit of any file the config reads
+// counts. Its bytes now enter that row's fingerprint: an edit of b2.msh is another row 0, not
+// another row 1; an edit of the flag's file is another of both. A row naming no file keeps the
+// grid's fingerprint, as markers written before hold it.
+TEST_F(SweepFiles, AFileARowsValueOrAFlagNamesCountsByItsBytes) {
+  fs::copy_file(kConfigs + "/star.yaml", dir_ / "star.yaml");
+  std::ofstream(dir_ / "b2.msh") << "first mesh\n";
+  const fs::path adversarial = dir_ / "a.msh";
+  std::ofstream(adversarial) << "first object\n";
+  const std::string head = "config: star.yaml\nverb: evaluate\n";
+  const std::string rows =
+      "rows: [{mesh.file: b2.msh}, {attack.seed: 1}, {obstacles.x: [a, b2.msh]}]\n";
+  const auto g =
+      rbaa::parse_sweep_grid(head + "flags: {adversarial: " + adversarial.string() + "}\n" + rows,
+                             "grid.yaml", dir_.string());
+  const auto plain = rbaa::parse_sweep_grid(head + rows, "grid.yaml", dir_.string());
+  const std::string grid_print = rbaa::config_fingerprint(g);
+  auto row_print = [&](const rbaa::SweepGrid& grid, int row) {
+    return rbaa::row_config_fingerprint(grid_print, grid, grid.rows[row]);
+  };
+  EXPECT_EQ(
+      rbaa::row_files_text(plain, plain.rows[0]).rfind("set mesh.file names b2.msh: bytes ", 0),
+      0u);
+  EXPECT_EQ(rbaa::row_files_text(plain, plain.rows[1]), "");
+  EXPECT_EQ(row_print(plain, 1), grid_print);
+  EXPECT_NE(row_print(plain, 0), grid_print);
+  EXPECT_NE(row_print(plain, 2), grid_print);
+  EXPECT_NE(rbaa::row_files_text(plain, plain.rows[2]).find("set obstacles.x names b2.msh"),
+            std::string::npos);
+  EXPECT_NE(
+      rbaa::row_files_text(g, g.rows[1]).find("flag --adversarial names " + adversarial.string()),
+      std::string::npos);
+
+  const std::string out = (dir_ / "out").string();
+  std::vector<std::string> before;
+  for (int row = 0; row < 3; ++row) {
+    before.push_back(row_print(g, row));
+    rbaa::RowOutcome ok{row, rbaa::RowStatus::kOk, rbaa::row_arguments(g, g.rows[row]), "", 0,
+                        1.0, before.back()};
+    rbaa::write_row_outcome(out + "/row-00" + std::to_string(row), ok);
+  }
+  EXPECT_EQ(rbaa::read_sweep_outcomes(g, out)[0].status, rbaa::RowStatus::kOk);
+
+  std::ofstream(dir_ / "b2.msh") << "second mesh\n";
+  EXPECT_NE(row_print(g, 0), before[0]);
+  EXPECT_EQ(row_print(g, 1), before[1]);
+  try {
+    rbaa::read_sweep_outcomes(g, out);
+    FAIL() << "expected an error";
+  } catch (const rbaa::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("row-000 holds a run of other settings than grid.yaml's "
+                                         "row 0: " +
+                                         g.config +
+                                         ", a file it builds on or one the row's values name "
+                                         "changed since"),
+              std::string::npos)
+        << e.what();
+  }
+  std::ofstream(dir_ / "b2.msh") << "first mesh\n";
+  std::ofstream(adversarial) << "second object\n";
+  for (int row = 0; row < 3; ++row) EXPECT_NE(row_print(g, row), before[row]) << row;
+}
+
 // A swept key's cell is the value the row ran with: its own, else the grid's set: value.
 TEST_F(SweepFiles, ResultsTableFillsASweptKeyFromSetWhereTheRowHasNone) {
   const auto g = parse(

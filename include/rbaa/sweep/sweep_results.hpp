@@ -12,8 +12,9 @@ namespace rbaa {
 /// Every row's outcome under `out_dir` (kPending for rows never started), each with the grid's
 /// arguments and config_fingerprint. Throws InputError when a row's folder holds a run with other
 /// arguments (the grid changed) or a finished (ok) run of another config fingerprint (the config,
-/// a base or a mesh file changed): use another --out. A failed or interrupted row of another
-/// fingerprint is returned as it is, to run again.
+/// a base, a mesh file or a file the row's values or flags name changed: row_config_fingerprint):
+/// use another --out. A failed or interrupted row of another fingerprint is returned as it is, to
+/// run again.
 std::vector<RowOutcome> read_sweep_outcomes(const SweepGrid& grid, const std::string& out_dir);
 
 /// The results table: header "row,status,<swept keys>,<grid.report_columns>,seconds,error,folder",
