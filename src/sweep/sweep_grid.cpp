@@ -82,13 +82,38 @@ class GridReader {
   std::vector<SweepOverride> assignments(const YAML::Node& n, const std::string& where) const {
     if (!n.IsMap()) fail(n, where + ": expected a mapping of key.path: value");
     std::vector<SweepOverride> out;
-    std::set<std::string> seen;
     for (const auto& kv : n) {
       const std::string key = key_text(kv.first, where);
-      if (!seen.insert(key).second) fail(kv.first, where + ": key '" + key + "' given twice");
       out.push_back({key, value_text(kv.second, key)});
     }
     return out;
+  }
+
+  // Every key of every mapping in the document a name, and none twice, as the scene's loader
+  // checks a config (scene.cpp, check_keys, which it does not expose): yaml-cpp keeps both
+  // entries of a repeated key, a lookup finds the first and a loop sees both, so a second
+  // product: block was dropped and `flags: {vtu_every: 0, vtu_every: 1}` gave every row both.
+  void check_keys(const YAML::Node& node, const std::string& prefix) const {
+    if (node.IsMap()) {
+      std::set<std::string> names;
+      for (const auto& kv : node) {
+        if (!kv.first.IsScalar()) {
+          fail(kv.first, (prefix.empty() ? "" : "under '" + prefix + "': ") +
+                             "a key must be a name, not a list or mapping");
+        }
+        const std::string name = kv.first.Scalar();
+        const std::string full = prefix.empty() ? name : prefix + "." + name;
+        if (!names.insert(name).second) {
+          fail(kv.first,
+               "key '" + full + "' is given twice in this mapping (only one value can hold)");
+        }
+        check_keys(kv.second, full);
+      }
+    } else if (node.IsSequence()) {
+      for (std::size_t i = 0; i < node.size(); ++i) {
+        check_keys(node[i], prefix + "[" + std::to_string(i) + "]");
+      }
+    }
   }
 
   const std::string& source() const { return source_; }
@@ -155,13 +180,9 @@ SweepGrid parse_sweep_grid(const std::string& yaml_text, const std::string& sour
   }
   if (!root || !root.IsMap())
     r.fail(root, "expected a mapping with config, verb and product or rows");
-  // yaml-cpp keeps both entries of a repeated key and root["product"] finds the first, so a
-  // second product: (or set:) block would be dropped without a word.
-  std::set<std::string> top_seen;
+  r.check_keys(root, "");
   for (const auto& kv : root) {
-    if (!kv.first.IsScalar()) r.fail(kv.first, "a key must be a name, not a list or mapping");
     const std::string key = kv.first.Scalar();
-    if (!top_seen.insert(key).second) r.fail(kv.first, "key '" + key + "' given twice");
     if (std::find(kTopKeys.begin(), kTopKeys.end(), key) == kTopKeys.end()) {
       std::string list;
       for (const auto& k : kTopKeys) list += (list.empty() ? "" : ", ") + k;
@@ -224,11 +245,6 @@ SweepGrid parse_sweep_grid(const std::string& yaml_text, const std::string& sour
       if (!values.IsSequence())
         r.fail(values, "product: key '" + key + "': expected a list of values");
       if (values.size() == 0) r.fail(values, "product: key '" + key + "': empty list");
-      for (const auto& c : combinations) {
-        for (const auto& o : c) {
-          if (o.key == key) r.fail(kv.first, "product: key '" + key + "' given twice");
-        }
-      }
       std::vector<std::vector<SweepOverride>> next;
       for (const auto& c : combinations) {
         for (const auto& v : values) {

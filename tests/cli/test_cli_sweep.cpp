@@ -356,7 +356,11 @@ TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {
         ":3: flags: --iterations is not a flag of rbaa simulate (rbaa simulate --help lists its "
         "flags)");
   fails("twice.yaml", head + "product: {time.step: [0.01]}\nproduct: {time.step: [0.02]}\n",
-        ":4: key 'product' given twice");
+        ":4: key 'product' is given twice in this mapping (only one value can hold)");
+  // Under flags: too: every row ran with --vtu_every=0 --vtu_every=1, the last winning.
+  fails("flag_twice.yaml",
+        head + "flags:\n  vtu_every: 0\n  vtu_every: 1\nproduct: {time.step: [0.01]}\n",
+        ":5: key 'flags.vtu_every' is given twice in this mapping (only one value can hold)");
   // A key that is a list: an input error (exit 2) naming the line, not yaml-cpp's conversion.
   fails("list_key.yaml", head + "? [a, b]\n: 1\nproduct: {time.step: [0.01]}\n",
         ":3: a key must be a name, not a list or mapping");

@@ -14,9 +14,10 @@
 //   report: [kappa]                   # extra report.json figures for results.csv (dotted paths)
 //   slurm: {time: "02:00:00"}         # sbatch options for --emit=slurm, as --name=value
 //
-// Every key is checked: unknown keys, an unknown verb, an empty list or product, a key set twice
-// in one row are errors "FILE:LINE: ...". The override values themselves are checked by the row
-// when it runs (a bad one fails that row alone, with the scene's error).
+// Every key is checked: unknown keys, an unknown verb, an empty list or product, a key given twice
+// in any mapping (a row, flags:, slurm: included) are errors "FILE:LINE: ...". The override values
+// themselves are checked by the row when it runs (a bad one fails that row alone, with the scene's
+// error).
 
 #include <string>
 #include <utility>
