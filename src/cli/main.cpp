@@ -76,15 +76,14 @@ void merge_set_flags(std::vector<char*>& args, std::string& storage) {
 }
 
 /// Why the flags given on the command line (or in a --flagfile) do not fit `verb`, or "": every
-/// rbaa flag given must be one the verb reads (gflags' flags are global, so another verb's flag
-/// would otherwise be accepted and ignored), and a number must be finite (gflags reads inf and
-/// nan as doubles). glog's and gflags' own flags (--v, --logtostderr, --flagfile) are not rbaa's.
+/// flag given must be one the verb reads (verb_reads_flag), and a number must be finite (gflags
+/// reads inf and nan as doubles).
 std::string unfit_flags(const rbaa::cli::Verb& verb) {
   std::vector<gflags::CommandLineFlagInfo> all;
   gflags::GetAllFlags(&all);
   for (const auto& info : all) {
-    if (info.is_default || info.filename.find("cli/") == std::string::npos) continue;
-    if (std::find(verb.flags.begin(), verb.flags.end(), info.name) == verb.flags.end()) {
+    if (info.is_default) continue;
+    if (!rbaa::cli::verb_reads_flag(verb, info.name, info.filename)) {
       return "--" + info.name + " is not a flag of rbaa " + verb.name + " (rbaa " + verb.name +
              " --help lists its flags)";
     }

@@ -68,9 +68,7 @@ std::string overrides_text(const rbaa::SweepRow& row) {
 }
 
 // Every extra flag of the grid must be one the grid's verb reads (a typo, or another verb's flag,
-// would fail every row). gflags' registry is global, so a flag it knows may belong to another
-// verb; main() refuses those for the row by the verb's own list, and so does this, before any row
-// starts. glog's and gflags' own flags (defined outside cli/) are every verb's, as in main().
+// would fail every row): main() refuses those for the row, and this before any row starts.
 void check_grid_flags(const rbaa::SweepGrid& grid) {
   const auto verbs = rbaa::cli::registered_verbs();
   const auto verb = std::find_if(verbs.begin(), verbs.end(),
@@ -82,9 +80,7 @@ void check_grid_flags(const rbaa::SweepGrid& grid) {
     if (!gflags::GetCommandLineFlagInfo(f.name.c_str(), &info)) {
       throw rbaa::InputError(where + "unknown flag --" + f.name + help);
     }
-    const bool ours = info.filename.find("cli/") != std::string::npos;
-    if (ours && verb != verbs.end() &&
-        std::find(verb->flags.begin(), verb->flags.end(), f.name) == verb->flags.end()) {
+    if (verb != verbs.end() && !rbaa::cli::verb_reads_flag(*verb, info.name, info.filename)) {
       throw rbaa::InputError(where + "--" + f.name + " is not a flag of rbaa " + grid.verb + help);
     }
   }
