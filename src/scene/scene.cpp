@@ -16,6 +16,7 @@
 #include "rbaa/io/text_reader.hpp"
 #include "rbaa/io/triangle_soup.hpp"
 #include "rbaa/mesh/tetrahedralize.hpp"
+#include "yaml_keys.hpp"
 
 namespace rbaa {
 namespace {
@@ -224,9 +225,6 @@ class MapReader {
   std::set<std::string> seen_;
 };
 
-void check_keys(const YAML::Node& node, const std::string& source, const std::string& prefix,
-                bool lines = true);
-
 // Applies "a.b.c=value" to the document; the value is parsed as YAML (so lists work).
 void apply_override(YAML::Node& root, const std::string& assignment, ConfigOrigin& origin) {
   const auto eq = assignment.find('=');
@@ -263,39 +261,6 @@ void apply_override(YAML::Node& root, const std::string& assignment, ConfigOrigi
   chain.back()[parts.back()] = value;
 }
 
-// Every key of every mapping in `node` a name, and none twice: yaml-cpp keeps both entries of a
-// repeated key and every read finds the first, so `time: {step: 0.01, step: 0.002}` (or a
-// second `time:` block) would silently lose the later value. `lines`: name the line (a --set
-// value has none of its own).
-void check_keys(const YAML::Node& node, const std::string& source, const std::string& prefix,
-                bool lines) {
-  auto where = [&](const YAML::Node& at) {
-    std::ostringstream msg;
-    msg << source;
-    if (lines && at.Mark().line >= 0) msg << ":" << at.Mark().line + 1;
-    return msg.str();
-  };
-  if (node.IsMap()) {
-    std::set<std::string> names;
-    for (const auto& kv : node) {
-      if (!kv.first.IsScalar()) {
-        throw InputError(where(kv.first) + ": " + (prefix.empty() ? "" : "under '" + prefix + "': ") +
-                         "a key must be a name, not a list or mapping");
-      }
-      const std::string name = kv.first.Scalar();
-      const std::string full = prefix.empty() ? name : prefix + "." + name;
-      if (!names.insert(name).second) {
-        throw InputError(where(kv.first) + ": key '" + full +
-                         "' is given twice in this mapping (only one value can hold)");
-      }
-      check_keys(kv.second, source, full, lines);
-    }
-  } else if (node.IsSequence()) {
-    for (std::size_t i = 0; i < node.size(); ++i) {
-      check_keys(node[i], source, prefix + "[" + std::to_string(i) + "]", lines);
-    }
-  }
-}
 
 YAML::Node load_yaml(const std::string& text, const std::string& source) {
   YAML::Node root;
@@ -1001,6 +966,36 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 
 std::string body_name(const Scene& scene, int index) {
   return index == 0 ? scene.object_name : scene.bodies.at(index - 1).name;
+}
+
+void check_keys(const YAML::Node& node, const std::string& source, const std::string& prefix,
+                bool lines) {
+  auto where = [&](const YAML::Node& at) {
+    std::ostringstream msg;
+    msg << source;
+    if (lines && at.Mark().line >= 0) msg << ":" << at.Mark().line + 1;
+    return msg.str();
+  };
+  if (node.IsMap()) {
+    std::set<std::string> names;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar()) {
+        throw InputError(where(kv.first) + ": " + (prefix.empty() ? "" : "under '" + prefix + "': ") +
+                         "a key must be a name, not a list or mapping");
+      }
+      const std::string name = kv.first.Scalar();
+      const std::string full = prefix.empty() ? name : prefix + "." + name;
+      if (!names.insert(name).second) {
+        throw InputError(where(kv.first) + ": key '" + full +
+                         "' is given twice in this mapping (only one value can hold)");
+      }
+      check_keys(kv.second, source, full, lines);
+    }
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      check_keys(node[i], source, prefix + "[" + std::to_string(i) + "]", lines);
+    }
+  }
 }
 
 }  // namespace rbaa

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "rbaa/error.hpp"
+#include "../scene/yaml_keys.hpp"
 
 namespace rbaa {
 namespace {
@@ -89,33 +90,6 @@ class GridReader {
     return out;
   }
 
-  // Every key of every mapping in the document a name, and none twice, as the scene's loader
-  // checks a config (scene.cpp, check_keys, which it does not expose): yaml-cpp keeps both
-  // entries of a repeated key, a lookup finds the first and a loop sees both, so a second
-  // product: block was dropped and `flags: {vtu_every: 0, vtu_every: 1}` gave every row both.
-  void check_keys(const YAML::Node& node, const std::string& prefix) const {
-    if (node.IsMap()) {
-      std::set<std::string> names;
-      for (const auto& kv : node) {
-        if (!kv.first.IsScalar()) {
-          fail(kv.first, (prefix.empty() ? "" : "under '" + prefix + "': ") +
-                             "a key must be a name, not a list or mapping");
-        }
-        const std::string name = kv.first.Scalar();
-        const std::string full = prefix.empty() ? name : prefix + "." + name;
-        if (!names.insert(name).second) {
-          fail(kv.first,
-               "key '" + full + "' is given twice in this mapping (only one value can hold)");
-        }
-        check_keys(kv.second, full);
-      }
-    } else if (node.IsSequence()) {
-      for (std::size_t i = 0; i < node.size(); ++i) {
-        check_keys(node[i], prefix + "[" + std::to_string(i) + "]");
-      }
-    }
-  }
-
   const std::string& source() const { return source_; }
 
  private:
@@ -180,7 +154,9 @@ SweepGrid parse_sweep_grid(const std::string& yaml_text, const std::string& sour
   }
   if (!root || !root.IsMap())
     r.fail(root, "expected a mapping with config, verb and product or rows");
-  r.check_keys(root, "");
+  // yaml-cpp keeps both entries of a repeated key, a lookup finds the first and a loop sees both:
+  // a second product: block was dropped and flags: {vtu_every: 0, vtu_every: 1} gave both.
+  check_keys(root, source, "");
   for (const auto& kv : root) {
     const std::string key = kv.first.Scalar();
     if (std::find(kTopKeys.begin(), kTopKeys.end(), key) == kTopKeys.end()) {
