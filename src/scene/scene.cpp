@@ -964,6 +964,12 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   return parse_scene(read_whole_file(path), path, base, overrides);
 }
 
+std::string merged_config_text(const std::string& path) {
+  ConfigOrigin origin(path, std::filesystem::path(path).parent_path().string());
+  std::vector<std::string> chain{path};
+  return YAML::Dump(with_base(load_yaml(read_whole_file(path), path), origin, chain));
+}
+
 std::string body_name(const Scene& scene, int index) {
   return index == 0 ? scene.object_name : scene.bodies.at(index - 1).name;
 }

@@ -307,6 +307,12 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 /// after it.
 std::string body_name(const Scene& scene, int index);
 
+/// The config at `path` as one YAML document, its `base:` chain merged under it as load_scene
+/// merges it (before any --set), re-emitted by yaml-cpp: comments and layout gone, every value of
+/// every file it builds on in. Throws rbaa::InputError as load_scene does for an unreadable file,
+/// bad YAML or a bad base.
+std::string merged_config_text(const std::string& path);
+
 /// Parses a scene from YAML text; `source` names it in errors and `base_dir` resolves paths.
 Scene parse_scene(const std::string& yaml_text, const std::string& source,
                   const std::string& base_dir, const std::vector<std::string>& overrides = {});

@@ -18,8 +18,8 @@ namespace rbaa {
 /// 16 hex digits (FNV-1a, 64 bit) over config_fingerprint_text.
 std::string config_fingerprint(const SweepGrid& grid);
 
-/// The text hashed: one line per YAML document of grid.config and its `base:` chain, each as
-/// yaml-cpp re-emits it (comments dropped; the raw bytes if it is not YAML), then the
+/// The text hashed: grid.config with its `base:` chain merged (merged_config_text: comments and
+/// layout dropped; "unloadable" when it does not load), then the
 /// scene_fingerprint of the scene that config and the grid's set: make (mesh, surface, obstacle
 /// and materials files by content), or "unloadable" when it does not load (its rows then fail
 /// with the scene's error). Files a row's own overrides or the grid's flags name are the row's:
