@@ -1,10 +1,14 @@
 #pragma once
 // What every rbaa benchmark shares (a header, so it does not become a binary of its own): the
-// paper's scenes loaded from configs/*.yaml, the BLAS/LAPACK libraries actually mapped into the
-// process (read from /proc/self/maps: a slower BLAS must not pass a ratio), and a reporter that
+// paper's scenes loaded from configs/*.yaml, the BLAS/LAPACK libraries mapped into the process
+// and the one CHOLMOD's calls resolve to (a slower BLAS must not pass a ratio), and a reporter that
 // remembers every run's time so that main() can print ratios measured in the same run.
 
 #include <benchmark/benchmark.h>
+
+#include <dlfcn.h>
+#include <limits.h>
+#include <stdlib.h>
 
 #include <cstdio>
 #include <cstring>
@@ -80,7 +84,11 @@ inline rbaa::Scene load(const Options& o, const std::string& scene,
   return rbaa::load_scene(o.configs + "/" + scene + ".yaml", overrides);
 }
 
-/// BLAS/LAPACK libraries mapped into this process (the ones CHOLMOD really calls).
+/// BLAS/LAPACK libraries mapped into this process, and the library each of CHOLMOD's BLAS and
+/// LAPACK calls resolves to. Mapped is not called: until Ceres's link interface was trimmed
+/// (CMakeLists.txt), ATLAS's libf77blas was mapped beside OpenBLAS and CHOLMOD's dgemm_ bound to
+/// it. The lookup is the global scope's, which is where CHOLMOD's calls resolve (it is loaded at
+/// start-up, without RTLD_DEEPBIND). A symbol that does not resolve to OpenBLAS is flagged.
 inline std::string loaded_blas() {
   std::ifstream maps("/proc/self/maps");
   std::set<std::string> libs;
@@ -94,7 +102,20 @@ inline std::string loaded_blas() {
   }
   std::string out;
   for (const auto& l : libs) out += "  " + l + "\n";
-  return out.empty() ? "  (none mapped)\n" : out;
+  if (out.empty()) out = "  (none mapped)\n";
+  out += "CHOLMOD's BLAS/LAPACK calls resolve to:\n";
+  for (const char* symbol : {"dgemm_", "dsyrk_", "dtrsm_", "dpotrf_"}) {
+    Dl_info info{};
+    void* f = dlsym(RTLD_DEFAULT, symbol);
+    std::string from = "(not found)";
+    if (f && dladdr(f, &info) && info.dli_fname) {
+      char resolved[PATH_MAX];
+      from = realpath(info.dli_fname, resolved) ? resolved : info.dli_fname;
+    }
+    const bool openblas = from.find("openblas") != std::string::npos;
+    out += "  " + std::string(symbol) + " " + from + (openblas ? "" : "  <- NOT OpenBLAS") + "\n";
+  }
+  return out;
 }
 
 /// Console reporter that also keeps each run's real time (s; the minimum over repetitions: the
