@@ -24,6 +24,13 @@ PACKAGES=(
 if [ "${CI:-}" = true ] || [ "${RBAA_WITH_SLURM:-}" = 1 ]; then
   PACKAGES+=(slurm-wlm munge)
 fi
+# OpenBLAS's OpenMP build, beside the pthread build rbaa uses, for the test that rbaa does not
+# livelock in it (CliSimulate.OpenblasOpenmpBuildFinishes; it skips without it): installed in CI,
+# or when asked. Its alternatives' priority (95) is below the pthread build's (100), and the
+# loop below pins the BLAS and LAPACK alternatives to the pthread build by name.
+if [ "${CI:-}" = true ] || [ "${RBAA_WITH_OPENBLAS_OPENMP:-}" = 1 ]; then
+  PACKAGES+=(libopenblas0-openmp)
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

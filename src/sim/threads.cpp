@@ -20,12 +20,22 @@ std::string& setup_text() {
 
 const std::string& thread_setup() { return setup_text(); }
 
+bool dynamic_teams_allowed(bool omp_dynamic_set, int openblas_parallel) {
+  return !omp_dynamic_set && openblas_parallel != kOpenblasOpenmp;
+}
+
 std::string tune_threads_for_shared_cores() {
   std::string& said = setup_text();
   said.clear();
-  if (!std::getenv("OMP_DYNAMIC")) {
+  using GetParallel = int (*)();
+  const auto get_parallel = reinterpret_cast<GetParallel>(dlsym(RTLD_DEFAULT, "openblas_get_parallel"));
+  const int openblas_parallel = get_parallel ? get_parallel() : -1;
+  const bool omp_dynamic_set = std::getenv("OMP_DYNAMIC") != nullptr;
+  if (dynamic_teams_allowed(omp_dynamic_set, openblas_parallel)) {
     omp_set_dynamic(1);
     said += "OpenMP dynamic teams";
+  } else if (!omp_dynamic_set) {
+    said += "OpenMP dynamic teams left off (OpenBLAS's OpenMP build waits for whole teams)";
   }
   if (!std::getenv("OPENBLAS_NUM_THREADS")) {
     // Only OpenBLAS has this entry point; another BLAS is left alone.

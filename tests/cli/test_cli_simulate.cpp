@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Dense>
@@ -99,6 +101,28 @@ TEST_F(CliSimulate, ThreadSetupRespectsTheUsersEnvironment) {
   EXPECT_EQ(setup("-u OMP_DYNAMIC -u OPENBLAS_NUM_THREADS", "a"), "OpenMP dynamic teams, OpenBLAS on 1 thread");
   EXPECT_EQ(setup("-u OMP_DYNAMIC OPENBLAS_NUM_THREADS=2", "b"), "OpenMP dynamic teams");
   EXPECT_EQ(setup("OMP_DYNAMIC=false OPENBLAS_NUM_THREADS=1", "c"), "");
+}
+
+// Under OpenBLAS's OpenMP build rbaa leaves OpenMP's dynamic teams off: with them, and with
+// OPENBLAS_NUM_THREADS set (so that rbaa leaves OpenBLAS's threads alone) on 2 OpenMP threads, the
+// tiny ball's first factorisation spun in OpenBLAS's exec_blas for ever (killed after 60 s). Runs
+// where Debian's libopenblas0-openmp is installed (scripts/install_deps.sh in CI), by pointing the
+// loader at it; `timeout` turns a livelock into a failure.
+TEST_F(CliSimulate, OpenblasOpenmpBuildFinishes) {
+  std::string dir;
+  for (const char* arch : {"x86_64-linux-gnu", "aarch64-linux-gnu"}) {
+    const std::string d = std::string("/usr/lib/") + arch + "/openblas-openmp";
+    if (std::filesystem::exists(d + "/libopenblas.so.0")) dir = d;
+  }
+  if (dir.empty()) GTEST_SKIP() << "OpenBLAS's OpenMP build is not installed (libopenblas0-openmp)";
+  const std::string config = write_config("ball.yaml", kTinyBall);
+  const std::string cmd = "env -u OMP_DYNAMIC OMP_NUM_THREADS=2 OPENBLAS_NUM_THREADS=1 LD_LIBRARY_PATH=" + dir +
+                          " timeout 120 " + std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
+                          " --vtu_every=0 --progress=false --out=" + path("omp") + " 2>/dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream in(path("omp/report.json"));
+  EXPECT_EQ(nlohmann::json::parse(in)["timing"]["thread_setup"].get<std::string>(),
+            "OpenMP dynamic teams left off (OpenBLAS's OpenMP build waits for whole teams)");
 }
 
 // object.position is the centre of mass (README): a materials file with non-uniform density moves

@@ -368,6 +368,18 @@ TEST(Simulator, ContactSpanningManyStepsLosesEnergy) {
   EXPECT_LT(b.restitution, 1.0);
 }
 
+// OpenMP's dynamic teams are left off where OpenBLAS is its OpenMP build (it waits for every
+// thread of a team it asked for; CliSimulate.OpenblasOpenmpBuildFinishes runs the livelock), and
+// where the user set OMP_DYNAMIC.
+TEST(Threads, DynamicTeamsOnlyWhereNeitherTheUserNorOpenblasOpenmpDecides) {
+  EXPECT_TRUE(dynamic_teams_allowed(false, -1));  // not OpenBLAS
+  EXPECT_TRUE(dynamic_teams_allowed(false, 0));   // sequential build
+  EXPECT_TRUE(dynamic_teams_allowed(false, 1));   // pthread build
+  EXPECT_FALSE(dynamic_teams_allowed(false, kOpenblasOpenmp));
+  EXPECT_FALSE(dynamic_teams_allowed(true, 1));
+  EXPECT_FALSE(dynamic_teams_allowed(true, kOpenblasOpenmp));
+}
+
 TEST(Simulator, ResultsDoNotDependOnTheThreadCount) {
   // 3072 tets: above the size at which the element loops go parallel.
   const TetMesh mesh = test::lifted(test::ball_mesh(0.121, 8), 0.02);
