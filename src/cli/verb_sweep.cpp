@@ -116,6 +116,10 @@ int run_sweep_verb() {
   }
 
   if (FLAGS_merge) {
+    if (!fs::is_directory(out_dir)) {
+      throw rbaa::InputError("--out: '" + out_dir +
+                             "' is not a folder: nothing to merge (run the sweep's rows into it first)");
+    }
     const auto outcomes = rbaa::read_sweep_outcomes(grid, out_dir);
     rbaa::write_sweep_results(grid, out_dir, outcomes);
     int counts[4] = {0, 0, 0, 0};

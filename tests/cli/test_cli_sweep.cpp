@@ -368,6 +368,10 @@ TEST_F(CliSweep, BadGridFilesGiveOneLineErrors) {
   expect_failure("sweep --grid=" + path("missing.yaml") + " --out=" + path("out"),
                  "missing.yaml: cannot read the grid file");
   expect_failure("sweep --out=" + path("out"), "--grid is required");
+  // --merge into a folder no row ran in: said so, not "cannot write results.csv".
+  const std::string good = write_file("good.yaml", head + "product: {time.step: [0.01]}\n");
+  expect_failure("sweep --grid=" + good + " --out=" + path("out") + " --merge",
+                 "--out: '" + path("out") + "' is not a folder: nothing to merge");
   EXPECT_FALSE(fs::exists(path("out")));
 
   const Result help = run("sweep --help");
