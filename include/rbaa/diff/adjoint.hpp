@@ -10,8 +10,14 @@
 //
 //   lambda          = H^-1 qbar
 //   qbar_{n-j}     += c_j M lambda                                  (j = 0 .. order)
+//   qbar_n, qbar_{n-1} += -lambda^T dG/dq_n, -lambda^T dG/dq_{n-1}    (lagged friction only)
 //   dC/dtheta_e    += -lambda^T [ dM/dtheta_e (q - q_hat - w g) + w d(grad Psi)/dtheta_e ]
 //
+// The third line: lagged friction (contact.friction) takes each pair's normal force, tangent
+// basis and closest-point weights from the lagged state and measures slip from x~ = a0 q_n +
+// a1 q_{n-1} (sim/form.hpp), so G depends on those positions besides through q_hat
+// (IncrementalPotential::add_history_adjoint). Held fixed within a step, as in the forward pass:
+// the set of pairs and each pair's distance type (piecewise constant).
 // Psi_e = alpha_e^3 V_e (mu_e Psi_mu + lambda_e Psi_lambda), so d(grad Psi)/dY is
 // (dmu/dY) grad Psi_mu + (dlambda/dY) grad Psi_lambda (likewise nu) and d(grad Psi)/dalpha is
 // 3/alpha times element e's gradient (the alpha^3 term the paper's supplement omits). M depends on
