@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <tuple>
 
 #include "contact_checks.hpp"
 #include "rbaa/contact/additive_ccd.hpp"
@@ -106,6 +107,42 @@ TEST(ContactAdditiveCcd, NonCollidingPairsTakeTheWholeStep) {
   EXPECT_EQ(ccd(Pair::kPointTriangle, p0, p1, s).toi, 0.0);
 }
 
+// A vertex sliding 5 mm along a triangle 1e-8 m below it, and an edge sliding 5 mm along another
+// 1e-8 m below it, parallel to neither: the distance never changes, but the additive iteration
+// advances t by 0.9 d0 / L per step and needed ~6e5 of them. At its cap of 1e5 it returned
+// t = 0.18, not converged (0.1998 with min_gap_ratio 1e-3, as is_step_valid asks), after 4.6 ms,
+// and Newton crept through such steps until its iteration limit (helper 42's pressed, sliding cube
+// on a mesh floor). The separating-plane certificate takes the whole step at once.
+TEST(ContactAdditiveCcd, SlidingPastAtATinyDistanceTakesTheWholeStep) {
+  const double d0 = 1e-8;
+  const Points4 p0 = {V(-0.5, -0.5, d0), V(-1, -1, 0), V(1, -1, 0), V(0, 1, 0)};
+  Points4 p1 = p0;
+  p1[0].x() += 5e-3;
+  const Points4 e0 = {V(-0.3, -0.2, d0), V(0.3, 0.2, d0), V(-0.2, 0.3, 0), V(0.2, -0.3, 0)};
+  Points4 e1 = e0;
+  e1[0].x() += 5e-3;
+  e1[1].x() += 5e-3;
+  for (double ratio : {0.1, 1e-3}) {
+    AdditiveCcdSettings s;
+    s.min_gap_ratio = ratio;
+    for (const auto& [pair, x0, x1] :
+         {std::tuple{Pair::kPointTriangle, p0, p1}, std::tuple{Pair::kEdgeEdge, e0, e1}}) {
+      const CcdResult r = ccd(pair, x0, x1, s);
+      EXPECT_EQ(r.toi, 1.0) << static_cast<int>(pair) << " " << ratio;
+      EXPECT_TRUE(r.converged);
+      EXPECT_LT(r.iterations, 100);
+      EXPECT_NEAR(distance(pair, x1), d0, 1e-15);
+    }
+  }
+  // Approaching instead (the vertex ends 1e-9 below the plane): not certified, and the iteration
+  // still stops it above the triangle.
+  Points4 down = p1;
+  down[0].z() = -1e-9;
+  const CcdResult r = ccd(Pair::kPointTriangle, p0, down, AdditiveCcdSettings{});
+  EXPECT_LT(r.toi, 1.0);
+  EXPECT_GE(distance(Pair::kPointTriangle, lerp(p0, down, r.toi)), 0.1 * d0 * (1 - 1e-6));
+}
+
 // 30 m/s through a 1 mm triangle in a 10 ms step: the vertex moves 0.3 m, 300 times the
 // triangle's size, and passes through its interior halfway. Discrete checks at t = 0 and 1 see
 // no contact; CCD must stop it above the triangle.
@@ -150,11 +187,12 @@ void make_collide(Pair pair, const Points4& x0, Points4& x1, std::mt19937& rng) 
 // intersecting); a brute-force search (1000 sub-steps, then bisection on the first bracketed
 // crossing) gives the first time t_b with d(t_b) = delta, and the answer is never later than it;
 // and when the answer is short of the whole step, the distance there is within the tolerance of
-// delta (so it did not stop early for nothing).
+// delta (so it did not stop early for nothing). With and without the plane certificate the answer
+// is the same to the bit.
 void random_trajectories(Pair pair, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
-  int colliding = 0, stopped = 0, iterations = 0;
+  int colliding = 0, stopped = 0, iterations = 0, certified = 0;
   const int n = 2000;
   for (int i = 0; i < n; ++i) {
     const Points4 x0 = test::random_points(rng);
@@ -172,6 +210,12 @@ void random_trajectories(Pair pair, unsigned seed) {
     const double slack = 1e-12 * (1 + d0);
     const CcdResult r = ccd(pair, x0, x1, s);
     iterations += r.iterations;
+    // The plane certificate only shortcuts: the iteration alone gives the same answer.
+    AdditiveCcdSettings iteration_only = s;
+    iteration_only.plane_certificate = false;
+    const CcdResult r_iteration = ccd(pair, x0, x1, iteration_only);
+    ASSERT_EQ(r.toi, r_iteration.toi) << i;
+    certified += r.iterations == 0 && r_iteration.iterations > 0;
     ASSERT_GE(r.toi, 0.0);
     ASSERT_LE(r.toi, 1.0);
     for (int k = 0; k <= 200; ++k) {
@@ -206,10 +250,11 @@ void random_trajectories(Pair pair, unsigned seed) {
   }
   std::printf(
       "%s: %d of %d trajectories reach delta (brute force), %d stopped, %.1f iterations "
-      "on average\n",
+      "on average, %d taken whole by the plane certificate\n",
       pair == Pair::kPointTriangle ? "point-triangle" : "edge-edge", colliding, n, stopped,
-      double(iterations) / n);
+      double(iterations) / n, certified);
   EXPECT_GT(colliding, n / 2);
+  EXPECT_GT(certified, n / 10);  // the certificate is exercised, not only the iteration
 }
 
 TEST(ContactAdditiveCcd, RandomPointTriangleTrajectoriesNeverTunnel) {
