@@ -70,8 +70,12 @@ CcdResult additive_ccd(const Points& x0, const Points& dx,
   // t = 0.18, not converged, and Newton crept through the step in such fractions until its
   // iteration limit (a pressed, sliding cube on a mesh floor). Where the plane certificate holds
   // above delta + stop_gap the iteration below would neither stop nor find d <= xi before t = 1,
-  // so its answer is 1 as well (plus a relative margin for the rounding of its distances).
-  if (s.plane_certificate && certified((delta + stop_gap) * (1 + 1e-9) + 1e-15 * d0)) return result;
+  // so its answer is 1 as well. The margin covers the rounding of the iteration's own distances,
+  // computed from coordinates up to X in magnitude (differences good to ~eps X).
+  double X = 0;
+  for (int i = 0; i < 4; ++i) X = std::max({X, x0[i].cwiseAbs().maxCoeff(), (x0[i] + dx[i]).cwiseAbs().maxCoeff()});
+  const double rounding = 16 * std::numeric_limits<double>::epsilon() * X;
+  if (s.plane_certificate && certified((delta + stop_gap) * (1 + 1e-9) + rounding)) return result;
 
   double t = 0.0, d = d0;
   for (result.iterations = 1; result.iterations <= s.max_iterations; ++result.iterations) {
