@@ -36,11 +36,13 @@ bool separated_over_the_step(const Eigen::Vector3d& w0, const Eigen::Vector3d& w
   const double c_max = std::max({c0.norm(), c1.norm(), c2.norm()});
   if (!(c_max > 0)) return false;
   const double sign = h[0] > 0 ? 1.0 : -1.0;
-  double m = std::numeric_limits<double>::infinity();
-  for (double hk : h) m = std::min(m, sign * hk);
   const double margin = 64 * std::numeric_limits<double>::epsilon() * std::max(w0.norm(), w1.norm()) *
                         std::max(p0.norm(), p1.norm()) * std::max(q0.norm(), q1.norm());
-  return m > bound * c_max + margin;
+  // Each coefficient compared itself, so that a NaN (a non-finite position) certifies nothing.
+  for (double hk : h) {
+    if (!(sign * hk > bound * c_max + margin)) return false;
+  }
+  return true;
 }
 
 // The additive iteration for a pair whose four points move x0 -> x0 + dx; `distance` is the
@@ -70,8 +72,9 @@ CcdResult additive_ccd(const Points& x0, const Points& dx,
   // t = 0.18, not converged, and Newton crept through the step in such fractions until its
   // iteration limit (a pressed, sliding cube on a mesh floor). Where the plane certificate holds
   // above delta + stop_gap the iteration below would neither stop nor find d <= xi before t = 1,
-  // so its answer is 1 as well. The margin covers the rounding of the iteration's own distances,
-  // computed from coordinates up to X in magnitude (differences good to ~eps X).
+  // so the certificate's 1 is the answer the iteration gives when no cap stops it. The margin
+  // covers the rounding of the iteration's own distances, computed from coordinates up to X in
+  // magnitude (differences good to ~eps X).
   double X = 0;
   for (int i = 0; i < 4; ++i) X = std::max({X, x0[i].cwiseAbs().maxCoeff(), (x0[i] + dx[i]).cwiseAbs().maxCoeff()});
   const double rounding = 16 * std::numeric_limits<double>::epsilon() * X;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 #include <tuple>
 
 #include "contact_checks.hpp"
@@ -133,6 +134,18 @@ TEST(ContactAdditiveCcd, SlidingPastAtATinyDistanceTakesTheWholeStep) {
       EXPECT_LT(r.iterations, 100);
       EXPECT_NEAR(distance(pair, x1), d0, 1e-15);
     }
+  }
+  // A non-finite end position certifies nothing (a NaN coefficient once passed the smallest-
+  // coefficient test, and the step was taken whole where the iteration answers 0).
+  for (Pair pair : {Pair::kPointTriangle, Pair::kEdgeEdge}) {
+    Points4 nan_end = pair == Pair::kPointTriangle ? p1 : e1;
+    nan_end[0].x() = std::numeric_limits<double>::quiet_NaN();
+    AdditiveCcdSettings iteration_only;
+    iteration_only.plane_certificate = false;
+    const Points4& start = pair == Pair::kPointTriangle ? p0 : e0;
+    const CcdResult with = ccd(pair, start, nan_end, AdditiveCcdSettings{});
+    EXPECT_EQ(with.toi, ccd(pair, start, nan_end, iteration_only).toi);
+    EXPECT_LT(with.toi, 1.0);
   }
   // Approaching instead (the vertex ends 1e-9 below the plane): not certified, and the iteration
   // still stops it above the triangle.
