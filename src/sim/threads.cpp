@@ -36,13 +36,20 @@ std::string tune_threads_for_shared_cores() {
     said += "OpenMP dynamic teams";
   } else if (!omp_dynamic_set) {
     said += "OpenMP dynamic teams left off (OpenBLAS's OpenMP build waits for whole teams)";
+  } else if (openblas_parallel == kOpenblasOpenmp && omp_get_dynamic()) {
+    // The user's choice stands, but it is the one that livelocked.
+    said += "warning: OMP_DYNAMIC turns dynamic teams on, in which OpenBLAS's OpenMP build can wait for ever";
   }
   if (!std::getenv("OPENBLAS_NUM_THREADS")) {
     // Only OpenBLAS has this entry point; another BLAS is left alone.
     using SetThreads = void (*)(int);
     if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) {
       set(1);
-      said += std::string(said.empty() ? "" : ", ") + "OpenBLAS on 1 thread";
+      // The OpenMP build's openblas_set_num_threads is omp_set_num_threads: rbaa's element loops
+      // go to 1 thread with it. Kept: measured on configs/ball.yaml with 2 cores, 1.9 s so against
+      // 17 s with OpenMP on 2 threads (OpenBLAS's teams nested in CHOLMOD's).
+      said += std::string(said.empty() ? "" : ", ") + "OpenBLAS on 1 thread" +
+              (openblas_parallel == kOpenblasOpenmp ? " (its OpenMP build: rbaa's OpenMP loops too)" : "");
     }
   }
   return said;

@@ -154,6 +154,27 @@ TEST_F(CliSimulate, OpenblasOpenmpBuildFinishes) {
   std::ifstream in(path("omp/report.json"));
   EXPECT_EQ(nlohmann::json::parse(in)["timing"]["thread_setup"].get<std::string>(),
             "OpenMP dynamic teams left off (OpenBLAS's OpenMP build waits for whole teams)");
+  // Without OPENBLAS_NUM_THREADS rbaa puts OpenBLAS on 1 thread, which in this build is
+  // omp_set_num_threads(1): said, and seen in timing.threads.
+  const std::string own = "env -u OMP_DYNAMIC -u OPENBLAS_NUM_THREADS OMP_NUM_THREADS=2 LD_LIBRARY_PATH=" + dir +
+                          " timeout 120 " + std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
+                          " --vtu_every=0 --progress=false --out=" + path("omp1") + " 2>/dev/null";
+  ASSERT_EQ(std::system(own.c_str()), 0) << own;
+  std::ifstream in1(path("omp1/report.json"));
+  const nlohmann::json timing = nlohmann::json::parse(in1)["timing"];
+  EXPECT_EQ(timing["thread_setup"].get<std::string>(),
+            "OpenMP dynamic teams left off (OpenBLAS's OpenMP build waits for whole teams), OpenBLAS on 1 "
+            "thread (its OpenMP build: rbaa's OpenMP loops too)");
+  EXPECT_EQ(timing["threads"].get<int>(), 1);
+  // The user's OMP_DYNAMIC stands, with a warning.
+  const std::string dyn = "env OMP_DYNAMIC=true OMP_NUM_THREADS=1 LD_LIBRARY_PATH=" + dir + " timeout 120 " +
+                          std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
+                          " --vtu_every=0 --progress=false --out=" + path("omp2") + " 2>/dev/null";
+  ASSERT_EQ(std::system(dyn.c_str()), 0) << dyn;
+  std::ifstream in2(path("omp2/report.json"));
+  EXPECT_NE(nlohmann::json::parse(in2)["timing"]["thread_setup"].get<std::string>().find(
+                "warning: OMP_DYNAMIC turns dynamic teams on"),
+            std::string::npos);
 }
 
 // object.position is the centre of mass (README): a materials file with non-uniform density moves
