@@ -88,7 +88,8 @@ inline rbaa::Scene load(const Options& o, const std::string& scene,
 /// LAPACK calls resolves to. Mapped is not called: until Ceres's link interface was trimmed
 /// (CMakeLists.txt), ATLAS's libf77blas was mapped beside OpenBLAS and CHOLMOD's dgemm_ bound to
 /// it. The lookup is the global scope's, which is where CHOLMOD's calls resolve (it is loaded at
-/// start-up, without RTLD_DEEPBIND). A symbol that does not resolve to OpenBLAS is flagged.
+/// start-up, without RTLD_DEEPBIND). A symbol that does not resolve to OpenBLAS's pthread or serial
+/// build is flagged.
 inline std::string loaded_blas() {
   std::ifstream maps("/proc/self/maps");
   std::set<std::string> libs;
@@ -112,8 +113,12 @@ inline std::string loaded_blas() {
       char resolved[PATH_MAX];
       from = realpath(info.dli_fname, resolved) ? resolved : info.dli_fname;
     }
-    const bool openblas = from.find("openblas") != std::string::npos;
-    out += "  " + std::string(symbol) + " " + from + (openblas ? "" : "  <- NOT OpenBLAS") + "\n";
+    // OpenBLAS's OpenMP build is flagged too: rbaa leaves dynamic teams off under it and it
+    // factorises 4-20x slower (benchmarks/README, "Which BLAS").
+    const bool pthread_or_serial = from.find("openblas-pthread") != std::string::npos ||
+                                   from.find("openblas-serial") != std::string::npos;
+    out += "  " + std::string(symbol) + " " + from +
+           (pthread_or_serial ? "" : "  <- NOT OpenBLAS's pthread or serial build") + "\n";
   }
   return out;
 }

@@ -45,11 +45,14 @@ fi
 # libceres-dev pulls in ATLAS and Debian's alternatives may then pick it as the system BLAS and
 # LAPACK; CHOLMOD factorised the ball's system ~3x slower under ATLAS than under OpenBLAS on two
 # threads (SPEC section 9). Point every BLAS/LAPACK alternative at OpenBLAS's pthread build, by
-# name: where the OpenMP build is installed too it sorts first, and it factorised 2-6x slower
-# (bench_newton, ball 123-394 ms against 65-68 ms; issue 15). The serial build ties with the
-# pthread build on one thread, which rbaa sets (sim/threads.hpp).
+# name, not by Debian's priorities (pthread 100, OpenMP 95, ATLAS 35 on Debian 12; a manual choice
+# elsewhere would otherwise stay): the OpenMP build factorised 4-20x slower (bench_newton,
+# 2026-11-29: ball 107 ms against 26 ms) and livelocked in rbaa's dynamic OpenMP teams
+# (sim/threads.cpp). The serial build ties with the pthread build on one thread, which rbaa sets.
 arch=$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || echo x86_64-linux-gnu)
-for name in libblas.so.3 liblapack.so.3 libblas.so liblapack.so; do
+# libopenblas.so.0 too: librbaa links it directly (Ceres's and SuiteSparse's link interfaces), and
+# its alternative is otherwise left to priorities (pthread 100 over OpenMP 95).
+for name in libblas.so.3 liblapack.so.3 libblas.so liblapack.so libopenblas.so.0 libopenblas.so; do
   alt="${name}-${arch}"
   target=$(update-alternatives --list "$alt" 2>/dev/null | grep openblas-pthread | head -n1 || true)
   if [ -n "$target" ]; then
