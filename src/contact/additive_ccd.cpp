@@ -26,9 +26,14 @@ using Points = std::array<Eigen::Vector3d, 4>;
 // magnitude m satisfies m >= bound max_j |c_j| (c_j: n's control points), then d(t) >= bound on
 // all of [0, 1]. The margin covers the rounding of the coefficients. O(1) work; it fails (and the
 // additive iteration runs) when the directions are near parallel or the pair does approach.
-bool separated_over_the_step(const Eigen::Vector3d& w0, const Eigen::Vector3d& w1,
-                             const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
-                             const Eigen::Vector3d& q0, const Eigen::Vector3d& q1, double bound) {
+// The plane's motion: its two directions p, q and the other primitive's point w relative to the
+// plane's origin, each at t = 0 and t = 1 (linear in between).
+struct PlaneMotion {
+  Eigen::Vector3d w0, w1, p0, p1, q0, q1;
+};
+
+bool separated_over_the_step(const PlaneMotion& m, double bound) {
+  const Eigen::Vector3d &w0 = m.w0, &w1 = m.w1, &p0 = m.p0, &p1 = m.p1, &q0 = m.q0, &q1 = m.q1;
   const Eigen::Vector3d c0 = p0.cross(q0), c1 = 0.5 * (p0.cross(q1) + p1.cross(q0)),
                         c2 = p1.cross(q1);
   const double h[4] = {w0.dot(c0), (2 * w0.dot(c1) + w1.dot(c0)) / 3,
@@ -46,12 +51,11 @@ bool separated_over_the_step(const Eigen::Vector3d& w0, const Eigen::Vector3d& w
 }
 
 // The additive iteration for a pair whose four points move x0 -> x0 + dx; `distance` is the
-// squared distance of four points, `speed_bound` L (m per unit t). `certified(bound)` says whether
-// the pair provably stays farther apart than `bound` over the whole step.
+// squared distance of four points, `speed_bound` L (m per unit t), `plane` the motion the
+// separating-plane certificate reads.
 CcdResult additive_ccd(const Points& x0, const Points& dx,
                        const std::function<double(const Points&)>& distance, double speed_bound,
-                       const std::function<bool(double)>& certified,
-                       const AdditiveCcdSettings& s) {
+                       const PlaneMotion& plane, const AdditiveCcdSettings& s) {
   CcdResult result;
   const auto at = [&](double t) {
     Points x;
@@ -75,10 +79,14 @@ CcdResult additive_ccd(const Points& x0, const Points& dx,
   // so the certificate's 1 is the answer the iteration gives when no cap stops it. The margin
   // covers the rounding of the iteration's own distances, computed from coordinates up to X in
   // magnitude (differences good to ~eps X).
-  double X = 0;
-  for (int i = 0; i < 4; ++i) X = std::max({X, x0[i].cwiseAbs().maxCoeff(), (x0[i] + dx[i]).cwiseAbs().maxCoeff()});
-  const double rounding = 16 * std::numeric_limits<double>::epsilon() * X;
-  if (s.plane_certificate && certified((delta + stop_gap) * (1 + 1e-9) + rounding)) return result;
+  if (s.plane_certificate) {
+    double X = 0;
+    for (int i = 0; i < 4; ++i) {
+      X = std::max({X, x0[i].cwiseAbs().maxCoeff(), (x0[i] + dx[i]).cwiseAbs().maxCoeff()});
+    }
+    const double rounding = 16 * std::numeric_limits<double>::epsilon() * X;
+    if (separated_over_the_step(plane, (delta + stop_gap) * (1 + 1e-9) + rounding)) return result;
+  }
 
   double t = 0.0, d = d0;
   for (result.iterations = 1; result.iterations <= s.max_iterations; ++result.iterations) {
@@ -123,14 +131,12 @@ CcdResult point_triangle_ccd(const Eigen::Vector3d& p_t0, const Eigen::Vector3d&
   const Points r = relative(dx);
   // Any point of the triangle moves by a convex combination of its corners' displacements.
   const double L = r[0].norm() + std::max({r[1].norm(), r[2].norm(), r[3].norm()});
-  const auto certified = [&](double bound) {
-    // The triangle's plane: origin t0, directions t1 - t0 and t2 - t0; w = p - t0.
-    return separated_over_the_step(p_t0 - t0_t0, p_t1 - t0_t1, t1_t0 - t0_t0, t1_t1 - t0_t1,
-                                   t2_t0 - t0_t0, t2_t1 - t0_t1, bound);
-  };
+  // The triangle's plane: origin t0, directions t1 - t0 and t2 - t0; w = p - t0.
+  const PlaneMotion plane{p_t0 - t0_t0, p_t1 - t0_t1, t1_t0 - t0_t0,
+                          t1_t1 - t0_t1, t2_t0 - t0_t0, t2_t1 - t0_t1};
   return additive_ccd(
       x0, dx, [](const Points& x) { return point_triangle_distance(x[0], x[1], x[2], x[3]); }, L,
-      certified, settings);
+      plane, settings);
 }
 
 CcdResult edge_edge_ccd(const Eigen::Vector3d& ea0_t0, const Eigen::Vector3d& ea1_t0,
@@ -142,14 +148,12 @@ CcdResult edge_edge_ccd(const Eigen::Vector3d& ea0_t0, const Eigen::Vector3d& ea
   const Points dx = {ea0_t1 - ea0_t0, ea1_t1 - ea1_t0, eb0_t1 - eb0_t0, eb1_t1 - eb1_t0};
   const Points r = relative(dx);
   const double L = std::max(r[0].norm(), r[1].norm()) + std::max(r[2].norm(), r[3].norm());
-  const auto certified = [&](double bound) {
-    // The plane through edge a parallel to both edges: w = eb0 - ea0.
-    return separated_over_the_step(eb0_t0 - ea0_t0, eb0_t1 - ea0_t1, ea1_t0 - ea0_t0, ea1_t1 - ea0_t1,
-                                   eb1_t0 - eb0_t0, eb1_t1 - eb0_t1, bound);
-  };
+  // The plane through edge a parallel to both edges: w = eb0 - ea0.
+  const PlaneMotion plane{eb0_t0 - ea0_t0, eb0_t1 - ea0_t1, ea1_t0 - ea0_t0,
+                          ea1_t1 - ea0_t1, eb1_t0 - eb0_t0, eb1_t1 - eb0_t1};
   return additive_ccd(
       x0, dx, [](const Points& x) { return edge_edge_distance(x[0], x[1], x[2], x[3]); }, L,
-      certified, settings);
+      plane, settings);
 }
 
 }  // namespace rbaa::contact

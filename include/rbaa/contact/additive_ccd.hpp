@@ -35,8 +35,9 @@ struct AdditiveCcdSettings {
 
 struct CcdResult {
   /// A safe step fraction in [0, 1]: 1 when the speed bound or the plane certificate (then
-  /// with iterations == 0) proves d >= delta over the whole step, 0 when d(0) <= xi already; otherwise a t with delta <= d(t) <= delta +
-  /// tolerance (d(0) - xi) (unless max_iterations stopped it first) and d >= delta on [0, t].
+  /// with iterations == 0) proves d >= delta over the whole step, 0 when d(0) <= xi already;
+  /// otherwise a t with delta <= d(t) <= delta + tolerance (d(0) - xi) (unless max_iterations
+  /// stopped it first) and d >= delta on [0, t].
   double toi = 1.0;
   int iterations = 0;
   /// False when max_iterations stopped the search before the tolerance was met.
