@@ -1,18 +1,27 @@
 // The adjoint through lagged friction on mesh pairs (pair_friction_form.hpp): the adjoint tests'
 // coarse soft ball (diff_fixtures.hpp) thrown sliding onto a two-triangle floor with mu = 0.5,
 // and the two colliding, spinning balls of the several-bodies tests (sim/body_fixtures.hpp) with
-// mu = 0.5 between them. The step equation depends on q_n and q_{n-1} through the lagged normal
-// forces, closest points, tangent bases and x~; the form's history hooks add those terms. Checked
-// per field (and per body) against central differences (SPEC bar 1e-5) and against the
-// tangent-linear model (1e-10; measured ~1e-15).
+// mu = 0.5 between them; and two 5 cm cubes, one sliding on three spikes (every pair's frame
+// moves with the body) and one across the floor's diagonal (a mollified edge-edge pair), whose
+// initial state's adjoint is checked against differences of whole runs. The step equation depends
+// on q_n and q_{n-1} through the lagged normal forces, closest points, tangent bases and x~; the
+// form's history hooks add those terms. Checked per field (and per body) against central
+// differences (SPEC bar 1e-5) and against the tangent-linear model (1e-10; measured ~1e-15).
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <random>
+#include <utility>
 
 #include "diff_fixtures.hpp"
+#include "rbaa/diff/adjoint.hpp"
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
+#include "rbaa/sim/contact_pair.hpp"
 #include "sim/body_fixtures.hpp"
 #include "sim/obstacle_fixtures.hpp"
 #include "support/intersection_free.hpp"
@@ -173,6 +182,196 @@ TEST(MeshFrictionGradient, AtABoxCornerEveryPairKindCarriesFriction) {
     EXPECT_LE(r.max_tangent_relative_error, 1e-10) << design_field_name(field);
     EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
   }
+}
+
+// The history terms through the lagged frames and through the mollifier, which neither the ball
+// on the mesh floor nor the ball at the box corner reaches measurably: on the floor every pair is
+// a ball vertex against a fixed triangle, whose closest-point weight on the vertex is 1 and whose
+// tangent basis is the floor's, so neither depends on q_n; at the corner, frames and mollified
+// pairs act in 3 steps only. Two scenes built for them, each checked by the adjoint's dC/dq_0 and
+// dC/dv_0 of C = w . q_N and by the density's gradient of the reference objective, against central
+// differences of whole runs. The tangent-linear check cannot stand in: it uses the same history
+// terms as the adjoint.
+
+ObstacleMesh with_friction(ObstacleMesh m, double mu) {
+  m.friction = mu;
+  return m;
+}
+
+// A 5 cm cube (one cell, six tets) sliding and turning on the apexes of three spikes, mu = 0.5 on
+// each: every lagged pair is an apex against one of the cube's bottom triangles (TV) or a spike's
+// edge against one of its bottom edges (EE), so every pair's closest-point weights and tangent
+// basis move with the cube's vertices. 15 steps of 2 ms, the apexes under the cube throughout.
+test::ThrownBall cube_on_spikes(double mu) {
+  test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);
+  b.settings.planes.clear();
+  b.mesh = test::box_mesh(1, 1, 1, 0.05, Eigen::Vector3d(0.0, 0.0, 1e-3));
+  b.settings.obstacle_meshes = {
+      with_friction(test::spike_obstacle(Eigen::Vector3d(0.037, 0.011, 0.0), 0.01, 0.01), mu),
+      with_friction(test::spike_obstacle(Eigen::Vector3d(0.041, 0.043, 0.0), 0.01, 0.01), mu),
+      with_friction(test::spike_obstacle(Eigen::Vector3d(0.013, 0.027, 0.0), 0.01, 0.01), mu)};
+  b.settings.num_steps = 15;
+  b.q0 = test::positions(b.mesh);
+  const Eigen::Vector3d c = b.mesh.V.colwise().mean().transpose();
+  b.v0 = rigid_velocities(b.q0, c, Eigen::Vector3d(0.3, 0.1, -0.05), Eigen::Vector3d(0, 0, 2.0));
+  return b;
+}
+
+// A 5 cm cube (one cell, six tets: its bottom face's diagonal runs along x = y) 1.6 mm above the
+// two-triangle floor (mu = 0.5), centred on the floor's diagonal x = y and turned by 0.3 deg about
+// z, sliding along the diagonal: the two diagonals cross under the cube's centre at 0.3 deg, an
+// edge-edge pair whose mollifier acts (m = 0.05 at the start) in every step: the yaw grows over
+// the run (from 1 deg it reached 3.4 deg, past the mollifier's 1.8 deg within a few steps), beside
+// the cube's bottom vertices against the floor (VT) and its bottom edges across the diagonal (EE,
+// unmollified).
+test::ThrownBall cube_across_floor_diagonal(double mu) {
+  test::ThrownBall b = test::thrown_ball(Integrator::kBdf2);
+  b.settings.planes.clear();
+  b.settings.obstacle_meshes = {with_friction(test::square_obstacle(1.0), mu)};
+  b.mesh = test::box_mesh(1, 1, 1, 0.05, Eigen::Vector3d(-0.025, -0.025, 0.0));
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.3 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (int v = 0; v < b.mesh.num_vertices(); ++v) {
+    b.mesh.V.row(v) =
+        (R * b.mesh.V.row(v).transpose() + Eigen::Vector3d(0.1, 0.1, 1.6e-3)).transpose();
+  }
+  b.settings.num_steps = 15;
+  b.q0 = test::positions(b.mesh);
+  const Eigen::Vector3d c = b.mesh.V.colwise().mean().transpose();
+  b.v0 = rigid_velocities(b.q0, c, Eigen::Vector3d(0.2, 0.2, 0.0), Eigen::Vector3d::Zero());
+  return b;
+}
+
+// Lagged pairs over a run, by kind; `mollified`: edge-edge pairs with m < 1; `steps`: steps with
+// any pair lagged, `mollified_steps` with a mollified one.
+struct LaggedCounts {
+  int vt = 0, tv = 0, ee = 0, mollified = 0, steps = 0, mollified_steps = 0;
+  double smallest_m = 1;
+};
+
+LaggedCounts lagged_counts(const test::ThrownBall& b) {
+  // The material of expect_initial_state_gradient's runs.
+  Simulator sim(b.mesh, MaterialField::uniform(b.mesh.num_tets(), 1e8, 0.3, 2500), b.settings);
+  LaggedCounts n;
+  const Trajectory run = sim.run(b.q0, b.v0, [&](int, const Eigen::VectorXd&, const StepStats&) {
+    const std::vector<LaggedFrictionPair>& pairs = sim.pair_friction_form()->lagged_pairs();
+    n.steps += !pairs.empty();
+    bool mollified = false;
+    for (const LaggedFrictionPair& p : pairs) {
+      n.vt += !p.points.edge_edge && p.points.vertex[0] >= 0;
+      n.tv += !p.points.edge_edge && p.points.vertex[0] < 0;
+      n.ee += p.points.edge_edge;
+      const double m = pair_mollifier(p.points);
+      if (p.points.edge_edge && m < 1) {
+        ++n.mollified;
+        mollified = true;
+        n.smallest_m = std::min(n.smallest_m, m);
+      }
+    }
+    n.mollified_steps += mollified;
+  });
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, run), "");
+  return n;
+}
+
+// dC/dq_0 and dC/dv_0 of C = w . q_N (w a fixed random vector; its adjoint seed is w at step N)
+// through every step, along `directions` random unit directions of q_0 and as many of v_0,
+// against Richardson-extrapolated central differences of whole runs at 1e-6 m and 3e-5 m/s (about
+// 1e-6 m by the last step): small enough to keep every pair's distance type and the pair set,
+// large enough that Newton's tolerance does not show (at 1e-6 m/s a direction of v_0 measured
+// 1e-6). Measured 2026-11-29: 5.4e-8 or better on both scenes; with the frames' derivatives
+// zeroed in the history terms 1.1e-2 to 4.2e-1 (both scenes), with the mollifier's term of the
+// normal force's derivative dropped 7.4e-3 to 2.8e-1 (across the diagonal). The initial state
+// rather than the materials: these stiff cubes' Y and nu move C by ~1e-11 relative, below
+// Newton's tolerance.
+void expect_initial_state_gradient(const test::ThrownBall& b, const char* label, int directions) {
+  const MaterialField m = MaterialField::uniform(b.mesh.num_tets(), 1e8, 0.3, 2500);
+  Simulator sim(b.mesh, m, b.settings);
+  const Trajectory t = sim.run(b.q0, b.v0);
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, t), "");
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  auto random_vector = [&] {
+    Eigen::VectorXd v(b.q0.size());
+    for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = normal(rng);
+    return v;
+  };
+  const Eigen::VectorXd w = random_vector();
+  TrajectorySeed seed = TrajectorySeed::empty(t.num_steps());
+  seed.dq[t.num_steps()] = w;
+  const AdjointResult r = adjoint_gradient(sim, m, t, seed);
+  for (int k = 0; k < directions; ++k) {
+    for (bool velocity : {false, true}) {
+      const Eigen::VectorXd d = random_vector().normalized();
+      auto C = [&](double s) {
+        Simulator run(b.mesh, m, b.settings);
+        return w.dot(
+            (velocity ? run.run(b.q0, b.v0 + s * d) : run.run(b.q0 + s * d, b.v0)).q.back());
+      };
+      const double s = velocity ? 3e-5 : 1e-6;
+      const double fd = (4.0 * (C(s / 2) - C(-s / 2)) / s - (C(s) - C(-s)) / (2 * s)) / 3.0;
+      const double ad = (velocity ? r.dv0 : r.dq0).dot(d);
+      const double error = std::abs(ad - fd) / std::max(std::abs(ad), std::abs(fd));
+      std::printf("%s, dC/d%s . d: adjoint %.10e, finite differences %.10e, relative error %.2e\n",
+                  label, velocity ? "v0" : "q0", ad, fd, error);
+      EXPECT_LE(error, 1e-6) << label << (velocity ? " v0" : " q0") << " direction " << k;
+    }
+  }
+}
+
+TEST(MeshFrictionGradient, OnSpikesEveryPairsFrameMovesWithTheBody) {
+  const test::ThrownBall b = cube_on_spikes(0.5);
+  const LaggedCounts n = lagged_counts(b);
+  std::printf("cube on spikes: friction in %d of %d steps; lagged pairs VT %d, TV %d, EE %d\n",
+              n.steps, b.settings.num_steps, n.vt, n.tv, n.ee);
+  EXPECT_EQ(n.steps, b.settings.num_steps);
+  EXPECT_EQ(n.vt, 0);  // no pair whose frame the obstacle alone fixes
+  EXPECT_GE(n.tv, 2 * b.settings.num_steps);
+  EXPECT_GE(n.ee, 2 * b.settings.num_steps);
+}
+
+TEST(MeshFrictionGradient, OnSpikesTheInitialStateAdjointMatchesFiniteDifferences) {
+  expect_initial_state_gradient(cube_on_spikes(0.5), "cube on spikes", 2);
+}
+
+TEST(MeshFrictionGradient, AcrossTheFloorsDiagonalAMollifiedPairCarriesFriction) {
+  const test::ThrownBall b = cube_across_floor_diagonal(0.5);
+  const LaggedCounts n = lagged_counts(b);
+  std::printf(
+      "cube across the floor's diagonal: friction in %d of %d steps, a mollified pair in %d "
+      "(smallest m %.3f); lagged pairs VT %d, EE %d (%d mollified)\n",
+      n.steps, b.settings.num_steps, n.mollified_steps, n.smallest_m, n.vt, n.ee, n.mollified);
+  EXPECT_EQ(n.steps, b.settings.num_steps);
+  EXPECT_EQ(n.mollified_steps, b.settings.num_steps);
+  EXPECT_GT(n.smallest_m, 0.0);
+}
+
+TEST(MeshFrictionGradient, AcrossTheFloorsDiagonalTheInitialStateAdjointMatchesFiniteDifferences) {
+  expect_initial_state_gradient(cube_across_floor_diagonal(0.5), "cube across the diagonal", 2);
+}
+
+// The density (the one field that moves these stiff cubes' paths measurably: Y and nu change the
+// objective by ~1e-11 relative, below Newton's tolerance), per direction against central
+// differences at SPEC's bar. Measured 2026-11-29: 5e-8 or better; 1.5e-3 (spikes) and 8.8e-2
+// (diagonal) with the frames' derivatives zeroed, 2.9e-2 (diagonal) with the mollifier's term
+// dropped.
+void expect_density_gradient(const test::ThrownBall& b, const char* label) {
+  const auto objective = floor_objective(b);
+  DesignSpace ds(b.mesh, soft_design({DesignField::kRho}, 2500, 11));
+  TrajectoryGradientFunction f(b.mesh, b.settings, b.q0, b.v0, ds, objective);
+  GradientCheckOptions o;
+  o.step = 1e-2;
+  o.directions = 2;
+  const GradientCheckResult r = check_gradient(f, ds.initial_theta(true), o);
+  print((std::string(label) + " rho").c_str(), r);
+  EXPECT_EQ(r.active_contact_steps, b.settings.num_steps);
+  EXPECT_LE(r.max_relative_error, 1e-5) << label;
+  EXPECT_EQ(test::first_intersection(b.mesh, b.settings, f.last().trajectory), "");
+}
+
+TEST(MeshFrictionGradient, OnSpikesAndAcrossTheDiagonalTheDensityAdjointMatchesFiniteDifferences) {
+  expect_density_gradient(cube_on_spikes(0.5), "cube on spikes");
+  expect_density_gradient(cube_across_floor_diagonal(0.5), "cube across the diagonal");
 }
 
 // The two balls with friction between them: A spins at 20 rad/s about z as it strikes B
