@@ -18,6 +18,7 @@
 #include "rbaa/io/vtu.hpp"
 #include "rbaa/opt/attack_problem.hpp"
 #include "rbaa/opt/density_refit.hpp"
+#include "rbaa/scene/scene_fingerprint.hpp"
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/sim/mass_matrix.hpp"
 #include "rbaa/sim/observables.hpp"
@@ -143,6 +144,21 @@ FinalGap measure_solid(const AttackProblem& problem,
   return g;
 }
 
+// The solid object's elements and materials, bit for bit: what the polish starts from.
+std::string solid_object_fingerprint(const SolidObject& solid) {
+  std::string bytes;
+  auto append = [&bytes](const void* data, size_t size) {
+    bytes.append(static_cast<const char*>(data), size);
+  };
+  append(solid.element_origin.data(),
+         solid.element_origin.size() * sizeof(solid.element_origin[0]));
+  const MaterialField& m = solid.materials;
+  for (const Eigen::VectorXd* x : {&m.Y, &m.nu, &m.rho, &m.alpha}) {
+    append(x->data(), static_cast<size_t>(x->size()) * sizeof(double));
+  }
+  return fingerprint_hex(bytes);
+}
+
 // Moves every optimised value at least 1e-9 of its range inside it, so that the tanh map can be
 // inverted (a value can sit on a bound to round-off after the re-fit).
 MaterialField inside_bounds(MaterialField m, const DesignSpace& design) {
@@ -205,10 +221,14 @@ void polish(AttackResult& r, const AttackProblem& problem, const AttackOptions& 
   });
   AttackLoopOptions loop = attack_loop_options(scene, options, "polish_");
   loop.iterations = scene.polish_iterations;
-  // A polish checkpoint belongs to the solid object it started from. When the main loop moved on
-  // in this process (a resume that extends attack.iterations, or goes on after stopping early),
-  // the object is another: polish it from its start, not from the old object's checkpoint.
-  if (r.loop.progress.size() > static_cast<size_t>(r.loop.resumed_from)) loop.resume = false;
+  // A polish checkpoint belongs to the solid object it started from, which the scene's
+  // fingerprint does not name (a resume may extend attack.iterations, or go on after stopping
+  // early): its fingerprint names the start too, and one of another start is polished over. Whether
+  // the main loop moved on in this process does not tell: a resume that extended the loop and was
+  // killed before the polish's first checkpoint left the old object's one for the next resume,
+  // which adds nothing to the loop (it then polished the new object from the old one's design).
+  loop.fingerprint += ":start " + solid_object_fingerprint(solid);
+  loop.restart_on_other_fingerprint = true;
   stage("polishing Y, nu, rho of the solid object (" + std::to_string(loop.iterations) + " iterations, " +
         std::to_string(design.size()) + " design variables)");
   r.polish = run_attack_loop(design, moments, nullptr, term, theta0, loop);

@@ -57,8 +57,10 @@ void save_checkpoint(const std::string& path, const AttackCheckpoint& c) {
   write_file_atomically(path, [&](std::ostream& out) { out << j.dump() << "\n"; });
 }
 
-AttackCheckpoint load_checkpoint(const std::string& path, const std::string& expected_fingerprint,
-                                 int expected_size) {
+namespace {
+
+// The checkpoint as written, not yet checked against a run.
+AttackCheckpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open checkpoint");
   AttackCheckpoint c;
@@ -97,6 +99,11 @@ AttackCheckpoint load_checkpoint(const std::string& path, const std::string& exp
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path + ": malformed checkpoint (" + e.what() + ")");
   }
+  return c;
+}
+
+void check_checkpoint(const AttackCheckpoint& c, const std::string& path,
+                      const std::string& expected_fingerprint, int expected_size) {
   if (c.fingerprint != expected_fingerprint) {
     throw InputError(path + ": checkpoint belongs to another scene or other settings (fingerprint " +
                      c.fingerprint + ", expected " + expected_fingerprint + "); remove it or drop --resume");
@@ -107,6 +114,14 @@ AttackCheckpoint load_checkpoint(const std::string& path, const std::string& exp
       (c.best_iteration >= 0 && c.best_theta.size() != expected_size)) {
     throw InputError(path + ": checkpoint does not fit this design (sizes differ)");
   }
+}
+
+}  // namespace
+
+AttackCheckpoint load_checkpoint(const std::string& path, const std::string& expected_fingerprint,
+                                 int expected_size) {
+  AttackCheckpoint c = read_checkpoint(path);
+  check_checkpoint(c, path, expected_fingerprint, expected_size);
   return c;
 }
 
@@ -172,8 +187,17 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
   // That design's trajectory term and gradient in this process (not across a resume).
   std::optional<std::pair<TrajectoryTermValue, Eigen::VectorXd>> last;
   int start = 0;
+  std::optional<AttackCheckpoint> saved;
   if (options.resume && !options.checkpoint_path.empty() && std::filesystem::exists(options.checkpoint_path)) {
-    AttackCheckpoint c = load_checkpoint(options.checkpoint_path, options.fingerprint, design.size());
+    saved = read_checkpoint(options.checkpoint_path);
+    if (options.restart_on_other_fingerprint && saved->fingerprint != options.fingerprint) {
+      saved.reset();  // another start's: overwritten by this run's first checkpoint
+    } else {
+      check_checkpoint(*saved, options.checkpoint_path, options.fingerprint, design.size());
+    }
+  }
+  if (saved) {
+    AttackCheckpoint& c = *saved;
     theta = c.theta;
     if (c.adam.steps > 0) adam.restore(c.adam);
     result.progress = c.progress;

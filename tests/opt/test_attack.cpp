@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "io/io_test_support.hpp"
+#include "rbaa/error.hpp"
 #include "rbaa/geometry/moments.hpp"
 #include "rbaa/io/materials_io.hpp"
 #include "rbaa/io/tet_mesh_file.hpp"
@@ -269,6 +270,91 @@ TEST(Attack, ResumingALongerLoopPolishesTheNewObject) {
   EXPECT_NE(longer.objective_post_processed, shorter.objective_post_processed);
   EXPECT_NEAR(longer.polish.progress[0].trajectory_term, longer.objective_post_processed,
               1e-6 * std::abs(longer.objective_post_processed));
+}
+
+// A resume that extends the loop and is then stopped before the polish writes its first
+// checkpoint (a kill during post-processing; here a stage callback that throws) leaves the
+// shorter run's polish checkpoint beside the longer loop's. The next resume adds nothing to the
+// loop, yet its object is the longer loop's: the polish starts over on it and the result is bit
+// for bit that of the uninterrupted resume. Before the polish's fingerprint named its start, that
+// resume polished the new object from the old one's design when their element counts agreed (at
+// learning rate 0.01, 3 -> 4 iterations: polish gap 2.362e-5 m against 2.383e-5 m, re-fit residual
+// before 2.2e-14 against 7.5e-15) and failed ("sizes differ") when they did not (at 0.05). A
+// resume killed in the middle of the polish (same start) goes on from its checkpoint, bit for bit.
+TEST(Attack, PolishResumesOnlyFromItsOwnStart) {
+  struct Interrupted {};
+  const test::ScratchDir scratch;
+  Scene scene = parse_scene(kSmallScene, "small.yaml", "");
+  scene.polish_iterations = 2;
+  scene.refinement_factor = 0;
+  AttackOptions options;
+  for (const double learning_rate : {0.01, 0.05}) {
+    scene.learning_rate = learning_rate;
+    auto out = [&](const std::string& run) {
+      const std::string dir = scratch.file(run + "_" + std::to_string(learning_rate));
+      std::filesystem::create_directories(dir);
+      return dir;
+    };
+    options.out_dir = out("straight");
+    options.resume = false;
+    scene.iterations = 3;
+    run_attack(scene, options);
+    options.resume = true;
+    scene.iterations = 4;
+    const AttackResult straight = run_attack(scene, options);
+
+    options.out_dir = out("interrupted");
+    options.resume = false;
+    scene.iterations = 3;
+    const AttackResult shorter = run_attack(scene, options);
+    options.resume = true;
+    scene.iterations = 4;
+    options.on_stage = [](const std::string& s) {
+      if (s.rfind("polishing", 0) == 0) throw Interrupted{};
+    };
+    EXPECT_THROW(run_attack(scene, options), Interrupted);
+    options.on_stage = nullptr;
+    AttackResult resumed;
+    try {
+      resumed = run_attack(scene, options);
+    } catch (const InputError& e) {
+      ADD_FAILURE() << "learning rate " << learning_rate << ": " << e.what();
+      continue;
+    }
+    ASSERT_EQ(resumed.loop.resumed_from, 4);
+    std::printf(
+        "learning rate %.2f, %zu -> %zu elements: polish resumed from %d, gap %.9e m, "
+        "re-fit residual before %.3g (uninterrupted: %.9e m, %.3g)\n",
+        learning_rate, shorter.post.solid.element_origin.size(),
+        resumed.post.solid.element_origin.size(), resumed.polish.resumed_from, resumed.polish_gap,
+        resumed.post.max_residual_before_refit, straight.polish_gap,
+        straight.post.max_residual_before_refit);
+    EXPECT_EQ(resumed.polish.resumed_from, 0);
+    ASSERT_EQ(resumed.polish.progress.size(), 2u);
+    EXPECT_TRUE(resumed.polish.theta == straight.polish.theta);
+    EXPECT_EQ(resumed.polish_gap, straight.polish_gap);
+    EXPECT_EQ(resumed.gap_final, straight.gap_final);
+    EXPECT_EQ(resumed.post.max_residual_before_refit, straight.post.max_residual_before_refit);
+  }
+
+  // Killed after the polish's first iteration (its checkpoint written), with the loop done: the
+  // resume continues that polish.
+  scene.polish_iterations = 3;
+  const std::string polish_checkpoint = options.out_dir + "/polish_checkpoint.json";
+  std::filesystem::remove(polish_checkpoint);
+  const AttackResult polished = run_attack(scene, options);  // uninterrupted
+  ASSERT_EQ(polished.polish.resumed_from, 0);
+  std::filesystem::remove(polish_checkpoint);
+  int polish_rows = 0;
+  options.on_iteration = [&](const ProgressRow&, int iterations) {
+    if (iterations == 3 && ++polish_rows == 1) throw Interrupted{};
+  };
+  EXPECT_THROW(run_attack(scene, options), Interrupted);
+  options.on_iteration = nullptr;
+  const AttackResult continued = run_attack(scene, options);
+  EXPECT_EQ(continued.polish.resumed_from, 1);
+  EXPECT_TRUE(continued.polish.theta == polished.polish.theta);
+  EXPECT_EQ(continued.polish_gap, polished.polish_gap);
 }
 
 // attack.start: best_uniform (issue 20 item 3) simulates the attacked body uniform at Y, nu in

@@ -91,6 +91,10 @@ struct AttackLoopOptions {
   std::string progress_path;    ///< empty: no progress.csv
   std::string fingerprint;
   bool resume = false;          ///< continue from checkpoint_path if it exists
+  /// With `resume`, a checkpoint whose fingerprint differs is another start's, not an error: the
+  /// loop starts over from theta0 and overwrites it. For a checkpoint that is never the only copy
+  /// of a run's work: the polish's, whose fingerprint names the object it started from.
+  bool restart_on_other_fingerprint = false;
   /// Descend along the moments' tangent: Adam gets the preconditioned gradient projected onto
   /// J z = 0 (J = dr/dtheta) in the preconditioner's metric (MetricTangentProjector), its step
   /// is projected the same way, and up to four Gauss-Newton steps theta -= J^T (J J^T)^-1 r take
