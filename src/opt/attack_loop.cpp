@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <sstream>
 
 #include "rbaa/error.hpp"
 #include "rbaa/io/atomic_file.hpp"
@@ -227,6 +228,18 @@ AttackLoopResult run_attack_loop(const DesignSpace& design, const MomentCostFunc
     } else {
       try {
         traj = trajectory(theta, &grad_traj);
+        // A NaN or an infinity is a failed design too: in a progress row it would reach the
+        // checkpoint (JSON writes it as null, which no resume reads back), in the gradient it
+        // stops Adam, and neither leaves the run's outputs behind.
+        const Eigen::Index bad = (!grad_traj.array().isFinite()).count();
+        if (!std::isfinite(traj.value) || !std::isfinite(traj.gap) ||
+            !std::isfinite(traj.com_gap) || bad > 0) {
+          std::ostringstream what;
+          what << "the trajectory term is not finite (value " << traj.value << ", gap " << traj.gap
+               << " m, centre-of-mass gap " << traj.com_gap << " m, " << bad << " of "
+               << grad_traj.size() << " gradient entries non-finite)";
+          throw SolverError(what.str());
+        }
       } catch (const SolverError& e) {
         // Keep what the run has: stop at the last design whose simulation succeeded.
         if (evaluated.size() == 0) throw;

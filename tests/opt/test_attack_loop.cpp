@@ -3,6 +3,9 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include <filesystem>
 #include <fstream>
@@ -186,6 +189,49 @@ TEST_F(AttackLoop, FailedSimulationStopsAtTheLastGoodDesign) {
   std::filesystem::remove(dir_ + "/checkpoint.json");
   calls = 0;
   EXPECT_THROW(run_attack_loop(*design_, *moments_, smoother_.get(), failing, theta0, options(6)), SolverError);
+}
+
+// A trajectory term that comes back non-finite (a NaN value, or a NaN in its gradient) is a
+// failed design like one whose simulation threw: the loop stops at the last finite design, says
+// why, and its checkpoint (no NaN in it, which JSON would write as null) resumes.
+TEST_F(AttackLoop, NonFiniteTrajectoryTermStopsAtTheLastGoodDesign) {
+  const Eigen::VectorXd theta0 = design_->initial_theta();
+  const TrajectoryTerm base = fake_term();
+  for (const bool in_gradient : {false, true}) {
+    std::filesystem::remove(dir_ + "/checkpoint.json");
+    int calls = 0;
+    std::vector<Eigen::VectorXd> seen;
+    const TrajectoryTerm term = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* g) {
+      TrajectoryTermValue v = base(theta, g);
+      if (calls++ == 2) {
+        if (in_gradient && g) (*g)[0] = std::numeric_limits<double>::quiet_NaN();
+        if (!in_gradient) v.value = std::numeric_limits<double>::quiet_NaN();
+        return v;
+      }
+      seen.push_back(theta);
+      return v;
+    };
+    AttackLoopResult r;
+    try {
+      r = run_attack_loop(*design_, *moments_, smoother_.get(), term, theta0, options(5));
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << (in_gradient ? "gradient" : "value") << ": the loop threw: " << e.what();
+      continue;
+    }
+    std::printf("non-finite %s: %zu rows, stopped early: '%s'\n",
+                in_gradient ? "gradient" : "value", r.progress.size(), r.stopped_early.c_str());
+    EXPECT_EQ(r.progress.size(), 2u) << in_gradient;
+    EXPECT_NE(r.stopped_early.find("not finite"), std::string::npos) << r.stopped_early;
+    EXPECT_TRUE(r.theta == seen.back());
+    EXPECT_EQ(r.failed_theta.size(), theta0.size());
+    for (const ProgressRow& row : r.progress)
+      EXPECT_TRUE(std::isfinite(row.objective)) << row.iteration;
+    try {
+      EXPECT_EQ(load_checkpoint(dir_ + "/checkpoint.json", "test-1", design_->size()).iteration, 2);
+    } catch (const InputError& e) {
+      ADD_FAILURE() << "the checkpoint does not load: " << e.what();
+    }
+  }
 }
 
 // Every design the loop evaluates has the reference's moments, also where the design saturates

@@ -116,9 +116,10 @@ struct AttackLoopOptions {
 
 struct AttackLoopResult {
   Eigen::VectorXd theta;  ///< after the last step (or the last simulated design, if stopped early)
-  /// Non-empty when a simulation failed (rbaa::SolverError) after at least one design had been
-  /// simulated: the loop then stops, theta is the last design whose simulation succeeded, and this
-  /// holds the error. A failure before any design was simulated is thrown.
+  /// Non-empty when a simulation failed (rbaa::SolverError, or a trajectory term, gap or gradient
+  /// that is not finite) after at least one design had been simulated: the loop then stops, theta
+  /// is the last design whose simulation succeeded, and this holds the error. A failure before
+  /// any design was simulated is thrown (as rbaa::SolverError).
   std::string stopped_early;
   Eigen::VectorXd failed_theta;  ///< the design whose simulation failed (empty unless stopped early)
   /// The last design whose simulation succeeded (empty if none). After a resume with no
