@@ -248,7 +248,8 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
   r["kappa_source"] = run.kappa_from_rule ? "energy rule (SPEC 2)" : "config";
   r["d_hat"] = run.settings.d_hat;
   std::vector<int> iterations;
-  int total = 0, max_it = 0, exact = 0, floor_limited = 0, relags = 0;
+  int total = 0, max_it = 0, exact = 0, floor_limited = 0, relags = 0, probes = 0, analyses = 0;
+  double seconds[5] = {0, 0, 0, 0, 0};
   double floor_velocity = 0;
   double dmin = std::numeric_limits<double>::infinity();
   for (const StepStats& s : t.steps) {
@@ -257,6 +258,13 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
     max_it = std::max(max_it, s.newton_iterations);
     exact += s.exact_factor ? 1 : 0;
     relags += s.friction_relags;
+    probes += s.line_search_probes;
+    analyses += s.symbolic_analyses;
+    seconds[0] += s.gradient_seconds;
+    seconds[1] += s.assembly_seconds;
+    seconds[2] += s.factorization_seconds;
+    seconds[3] += s.solve_seconds;
+    seconds[4] += s.line_search_seconds;
     if (s.roundoff_limited) {
       ++floor_limited;
       floor_velocity = std::max(floor_velocity, s.floor_velocity);
@@ -275,7 +283,14 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                  {"steps_stopped_at_roundoff_floor", floor_limited},
                  {"roundoff_floor_m_per_s", floor_velocity},
                  {"friction_iterations", run.settings.friction_iterations},
-                 {"friction_relags", relags}};
+                 {"friction_relags", relags},
+                 {"line_search_probes", probes},
+                 {"symbolic_analyses", analyses},
+                 {"seconds", {{"gradients", seconds[0]},
+                              {"assembly", seconds[1]},
+                              {"factorisations", seconds[2]},
+                              {"solves", seconds[3]},
+                              {"line_search", seconds[4]}}}};
   r["min_contact_distance"] = std::isfinite(dmin) ? nlohmann::json(dmin) : nlohmann::json(nullptr);
   nlohmann::json bounces = nlohmann::json::array();
   // One entry per contact episode; only a one-plane contact whose normal velocity reversed has a

@@ -473,6 +473,8 @@ StepStats Simulator::advance() {
   s.projected_fallbacks = r.projected_fallbacks;
   s.extrapolations = r.extrapolations;
   s.chord_steps = r.chord_steps;
+  s.line_search_probes = r.line_search_probes;
+  s.symbolic_analyses = r.symbolic_analyses;
   s.friction_relags = relags;
   s.gradient_seconds = r.gradient_seconds;
   s.assembly_seconds = r.assembly_seconds;

@@ -224,6 +224,27 @@ TEST_F(CliPaths, ToleranceBelowRoundOffIsDetectedAndSaid) {
   EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["steps_stopped_at_roundoff_floor"].get<int>(), 0);
 }
 
+// report.json says where Newton's time went and what its solver did: the star (one body, so one
+// pattern: one symbolic analysis) searched along three of its steps (33 line-minimisation
+// energies, measured 2026-11-29); the phases' seconds are parts of the simulation's.
+TEST_F(CliPaths, TheReportSplitsNewtonsWork) {
+  const Result r = run("simulate --config=" RBAA_SOURCE_DIR "/configs/star.yaml --progress=false "
+                       "--vtu_every=0 --out=" + path("split"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(path("split/report.json"));
+  const auto report = nlohmann::json::parse(in);
+  const auto newton = report["newton"];
+  EXPECT_EQ(newton["symbolic_analyses"].get<int>(), 1);
+  EXPECT_GT(newton["line_search_probes"].get<int>(), 0);
+  double sum = 0;
+  for (const char* phase : {"gradients", "assembly", "factorisations", "solves", "line_search"}) {
+    const double seconds = newton["seconds"][phase].get<double>();
+    EXPECT_GT(seconds, 0.0) << phase;
+    sum += seconds;
+  }
+  EXPECT_LE(sum, report["timing"]["simulate_s"].get<double>());
+}
+
 // Issue 14's 1e-10 case: the ball's config at newton.tolerance 1e-10 (4.2e-11 m/s) stopped 8 of
 // its 25 steps at a round-off floor of 8.9e-11 m/s, grinding 8-26 iterations a step, because the
 // elastic forces' net force and torque kept the round-off of thousands of Y = 1e13 elements and

@@ -60,6 +60,7 @@ struct NewtonResult {
   double step_velocity = 0;       ///< ||dq||_inf / h of the final, unapplied step (m/s)
   int line_search_halvings = 0;   ///< summed over the iterations
   int line_search_probes = 0;     ///< energies of the line minimisation after backtracking
+  int symbolic_analyses = 0;      ///< CHOLMOD symbolic analyses (a new Hessian pattern)
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
   int extrapolations = 0;         ///< step doublings taken after full steps (newton_solver.cpp)
   int chord_steps = 0;            ///< chord steps taken on the previous call's factor (0 or 1)
