@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
-#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -106,9 +105,10 @@ int SparseHessian::base_entry(int row, int col) const {
   return at != end && *at == row ? static_cast<int>(at - base_inner_.data()) : -1;
 }
 
-void SparseHessian::rebuild_pattern(std::vector<std::pair<int, int>> pairs) {
+void SparseHessian::rebuild_pattern() {
   pattern_version_ = next_pattern_version++;
-  extra_pairs_ = std::move(pairs);
+  extra_pairs_.clear();
+  for (const auto& [key, block] : extra_) extra_pairs_.push_back(key);
   // Extra row vertices per column vertex; extra_pairs_ is sorted by row, so sort by column.
   std::vector<std::pair<int, int>> by_column;  // (column vertex, index in extra_pairs_)
   for (std::size_t i = 0; i < extra_pairs_.size(); ++i)
@@ -259,35 +259,17 @@ void SparseHessian::use_direct() {
 }
 
 const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
-  // The pattern's extra blocks are kept while they hold every extra block of this assembly and
-  // at most kStaleFactor times as many plus kStaleSlack (the rest are written as zeros); else the
-  // pattern becomes the union of both, or this assembly's blocks alone where the union is too
-  // large. Body-body contact pairs come and go between Newton iterations: rebuilding the pattern
-  // for exactly the active set redid CHOLMOD's symbolic analysis (AMD, then METIS) for 40 % of
-  // the factorisations of four stacked cubes and their striker (191 of 474 in 0.1 s).
-  constexpr std::size_t kStaleFactor = 2, kStaleSlack = 64;
-  const std::size_t limit = kStaleFactor * extra_.size() + kStaleSlack;
-  bool covered = true;
-  auto held = extra_pairs_.begin();
-  for (const auto& [key, block] : extra_) {
-    while (held != extra_pairs_.end() && *held < key) ++held;
-    if (held == extra_pairs_.end() || *held != key) {
-      covered = false;
-      break;
+  bool same = extra_.size() == extra_pairs_.size();
+  if (same) {
+    std::size_t i = 0;
+    for (const auto& [key, block] : extra_) {
+      if (key != extra_pairs_[i++]) {
+        same = false;
+        break;
+      }
     }
   }
-  if (!covered || extra_pairs_.size() > limit) {
-    std::vector<std::pair<int, int>> pairs;
-    pairs.reserve(extra_.size());
-    for (const auto& [key, block] : extra_) pairs.push_back(key);
-    if (!covered) {
-      std::vector<std::pair<int, int>> both;
-      std::set_union(pairs.begin(), pairs.end(), extra_pairs_.begin(), extra_pairs_.end(),
-                     std::back_inserter(both));
-      if (both.size() <= limit) pairs = std::move(both);
-    }
-    rebuild_pattern(std::move(pairs));
-  }
+  if (!same) rebuild_pattern();
   const int nnz = static_cast<int>(base_inner_.size());
   double* values = matrix_.valuePtr();
   const int* position = base_position_.data();
@@ -327,16 +309,13 @@ const Eigen::SparseMatrix<double>& SparseHessian::assemble() {
       for (int i = j; i < 3; ++i) values[position[diagonal_entries_[6 * v + p++]]] += B(i, j);
     }
   }
-  // Every extra entry belongs to one block of the pattern: this assembly's, or a kept one (zero).
-  auto block = extra_.begin();
-  for (std::size_t x = 0; x < extra_pairs_.size(); ++x) {
-    const bool present = block != extra_.end() && block->first == extra_pairs_[x];
+  // Every extra entry belongs to one block of extra_ (the pattern was just made to match it).
+  std::size_t x = 0;
+  for (const auto& [key, L] : extra_) {
     for (int j = 0; j < 3; ++j) {
-      for (int i = 0; i < 3; ++i) {
-        values[extra_position_[3 * x + j] + i] = present ? block->second(i, j) : 0.0;
-      }
+      for (int i = 0; i < 3; ++i) values[extra_position_[3 * x + j] + i] = L(i, j);
     }
-    if (present) ++block;
+    ++x;
   }
   return matrix_;
 }

@@ -8,10 +8,10 @@
 //
 // Contact between bodies couples vertices that share no tet. Such blocks (add_vertex_pair_block
 // or add_matrix outside the base pattern) are kept apart, keyed by vertex pair, and assemble()
-// returns the base pattern plus one 3x3 block per such pair and per pair kept from earlier
-// assemblies (zero now): the merged pattern is rebuilt (and pattern_version() changes, which makes
-// the linear solvers redo their symbolic analysis) only when a new pair appears or the kept ones
-// outnumber the present ones by far (assemble()); otherwise only the values are written.
+// returns the base pattern plus one 3x3 block per such pair. The extra pairs change only when
+// the active contact pairs do, so the merged pattern is rebuilt (and pattern_version() changes,
+// which makes the linear solvers redo their symbolic analysis) only when the set of extra pairs
+// differs from the previous assemble's; otherwise only the values are written.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -105,16 +105,14 @@ class SparseHessian {
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
   /// A matrix with the last assemble's pattern and zero values.
   Eigen::SparseMatrix<double> zero_matrix() const;
-  /// Vertex pairs (row > column) of the extra blocks in the last assemble's pattern, ascending:
-  /// those of that assembly and kept ones (zero blocks).
+  /// Vertex pairs (row > column) of the extra blocks in the last assemble's pattern, ascending.
   const std::vector<std::pair<int, int>>& extra_pairs() const { return extra_pairs_; }
 
  private:
   // Index of entry (row, col) in the base pattern, or -1.
   int base_entry(int row, int col) const;
-  // Rebuilds matrix_'s pattern as the base one plus the blocks `pairs` (ascending; a new
-  // pattern_version).
-  void rebuild_pattern(std::vector<std::pair<int, int>> pairs);
+  // Rebuilds matrix_'s pattern as the base one plus the blocks of extra_ (a new pattern_version).
+  void rebuild_pattern();
   // Zeroes direct_ unless it already holds this assembly's values (set_zero() leaves it stale).
   void use_direct();
 
