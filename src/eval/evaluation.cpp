@@ -197,31 +197,93 @@ RunComparison compare_runs(const RunTrace& a, const RunTrace& b) {
   return c;
 }
 
+namespace {
+
+// w_out without the gravity the free sides of a contact gained from t_in to t_out: `free` is 1 for
+// a free body against an obstacle or a driven body, 0 for two free bodies (both fall alike), -1
+// for a driven body against a free one. Every rebound the calibration reads, the deformable run's
+// and the twin's, of planes, meshes and pairs, takes gravity off this way over its whole episode,
+// so the two runs' ratios measure the contact alone and agree on what gravity did. (Taking it off
+// over the settle steps only, as find_bounces does, read a plane's rebound 0.525 where the same
+// drop onto a mesh floor read 0.560, and left the fitted twin flying 2 g h slow.)
+Eigen::Vector3d without_gravity(const Eigen::Vector3d& w_out, double free,
+                                const Eigen::Vector3d& gravity, double t_in, double t_out) {
+  return w_out - free * (t_out - t_in) * gravity;
+}
+
+// -(out . n) / (w_in . n): NaN unless the pair approached along n (w_in . n < 0).
+double rebound_along(const Eigen::Vector3d& w_in, const Eigen::Vector3d& out,
+                     const Eigen::Vector3d& n) {
+  const double in = w_in.dot(n);
+  if (!(in < 0)) return std::nan("");
+  return -out.dot(n) / in;
+}
+
+// A free body's rebound off a plane (normal n) across an episode from t_in to t_out.
+double plane_rebound(const Eigen::Vector3d& v_in, const Eigen::Vector3d& v_out,
+                     const Eigen::Vector3d& n, const Eigen::Vector3d& gravity, double t_in,
+                     double t_out) {
+  return rebound_along(v_in, without_gravity(v_out, 1.0, gravity, t_in, t_out), n);
+}
+
+// The sample a twin's rebound reads its incoming velocity at: the deformable run's (`start`, the
+// position before its episode) when the twin's first impact comes at most three samples after
+// it, else the sample before that impact. Both runs then take gravity off over the same interval
+// from the same free fall, and a matched ratio makes the twin leave with the run's velocity: the
+// deformable body enters d_hat a step before Bullet's impulse, and a ratio read a step apart
+// differs by about g h (1 + r) / |v_in| (the twin of a ball meeting a mesh floor at 1.2 m/s left
+// 1.7 g h fast).
+int rebound_start(int start, int first_impact) {
+  return start >= 0 && start <= first_impact && first_impact - start <= 3 ? start : first_impact;
+}
+
+}  // namespace
+
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
-                           double gravity_speed_per_step,
-                           const std::function<bool(int)>& touches_plane) {
-  // An impact changes the normal velocity by far more than gravity does in one step. A bounce of a
-  // non-round body is often several impacts (it rocks onto another corner): the episode runs
-  // through the impacts and on while the body still approaches the plane, as in the deformable
-  // run (impact_end), or while the next impact is at most three steps away (the deformable body
-  // is still within d_hat there: its contact lasts some steps where the twin's is one impulse).
-  // The rebound compares the normal velocities before and after the whole episode.
+                           const Eigen::Vector3d& gravity,
+                           const std::function<bool(int)>& touches_plane, int start) {
+  // Without a touch log an impact is a change of the normal velocity by far more than gravity
+  // makes in one step (10 |g| h). Bullet's touch log says which steps met the plane, so there an
+  // impact is a touched step whose normal velocity changed by more than a small bar, both in all
+  // (a body at rest on the plane changes by nothing) and beyond gravity's own change (a contact
+  // point Bullet keeps within its margin before the impact acts on nothing): 10 |g| h missed
+  // every impact slower than about 5 |g| h (a ball meeting the floor at 0.392 m/s at h = 0.01 s,
+  // -0.392 -> +0.402, read "not fitted").
+  // A bounce of a non-round body is often several impacts (it rocks onto another corner): the
+  // episode runs through the impacts and on while the body still approaches the plane, as in
+  // the deformable run (impact_end), or while the next impact is at most three steps away (the
+  // deformable body is still within d_hat there: its contact lasts some steps where the twin's
+  // is one impulse). The rebound compares the normal velocities before and after the whole
+  // episode, gravity taken off over it (without_gravity), as the deformable run's target is.
   const int n = static_cast<int>(states.size()) - 1;  // impact(k) compares states k and k + 1
+  const double h = n > 0 ? states[1].time - states[0].time : 0.0;
+  const double g_step = gravity.norm() * h, g_normal_step = gravity.dot(plane.normal) * h;
   auto normal_velocity = [&](int k) { return states[k].velocity.dot(plane.normal); };
   auto impact = [&](int k) {
     const double in = normal_velocity(k), out = normal_velocity(k + 1);
-    return std::abs(out - in) > 10 * gravity_speed_per_step + 1e-9 * std::abs(in);
+    if (!touches_plane) return std::abs(out - in) > 10 * g_step + 1e-9 * std::abs(in);
+    const double bar = 1e-2 * g_step + 1e-9 * std::abs(in);
+    return touches_plane(k) && std::abs(out - in) > bar && std::abs(out - in - g_normal_step) > bar;
   };
   for (int k = 0; k < n; ++k) {
-    const double in = normal_velocity(k);
-    if (!(in < 0) || !impact(k) || (touches_plane && !touches_plane(k))) continue;
+    if (!(normal_velocity(k) < 0) || !impact(k)) continue;
     int last = k;
-    auto goes_on = [&](int j) { return normal_velocity(j) < 0 || j <= last + 3; };
+    // Approaching since the last impact: a body that turned away and falls back (a slow bounce
+    // whose hop is shorter than the three steps) begins another bounce.
+    auto approaching = [&](int j) {
+      for (int i = last + 1; i <= j; ++i) {
+        if (!(normal_velocity(i) < 0)) return false;
+      }
+      return true;
+    };
+    auto goes_on = [&](int j) { return j <= last + 3 || approaching(j); };
     const int end = impact_end(k, n, impact, [&](int j) { last = j; }, goes_on);
     int j = end;
     while (j < n && goes_on(j)) ++j;
     if (j >= n) return std::nan("");  // the trace ended within the episode
-    return -normal_velocity(end) / in;
+    const int from = rebound_start(start, k);
+    return plane_rebound(states[from].velocity, states[end].velocity, plane.normal, gravity,
+                         states[from].time, states[end].time);
   }
   return std::nan("");
 }
@@ -333,12 +395,12 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
                                              RigidSettings settings, double duration, int plane,
                                              double target, double tolerance,
                                              const std::vector<RigidBody>& further,
-                                             const TwinCloseness& closeness) {
+                                             const TwinCloseness& closeness, int target_start) {
   RestitutionCalibration c;
   c.contact = RestitutionContact::kPlane;
   c.plane = plane;
+  c.body_a = 0;
   c.name = "plane " + std::to_string(plane);
-  const double g_step = scene.gravity.norm() * scene.time_step;
   if (settings.plane_restitution.size() < scene.planes.size()) settings.plane_restitution.resize(scene.planes.size(), 1.0);
   // The episode starts at an impact with this plane, Bullet's own contact (RigidTouch), not at a
   // blow from another body or obstacle that the object then carries down onto the plane.
@@ -355,8 +417,9 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
       if (t.first == object && t.second == side) touched.at(t.sample) = 1;
     }
     // Impact k changes the velocity from sample k to k + 1: the touches logged at sample k + 1.
-    return rigid_first_rebound(states.front(), scene.planes[plane], g_step,
-                               [&](int k) { return touched.at(k + 1) != 0; });
+    return rigid_first_rebound(
+        states.front(), scene.planes[plane], scene.gravity,
+        [&](int k) { return touched.at(k + 1) != 0; }, target_start);
   };
   std::function<double(double)> twin_closeness;
   if (closeness) {
@@ -412,13 +475,10 @@ double episode_rebound(const Eigen::Vector3d& w_in, const Eigen::Vector3d& w_out
                        const EpisodeSides& s, const Eigen::Vector3d& gravity, double t_in,
                        double t_out) {
   const double free = (s.body_free ? 1.0 : 0.0) - (s.other_free ? 1.0 : 0.0);
-  const Eigen::Vector3d out = w_out - free * (t_out - t_in) * gravity;
+  const Eigen::Vector3d out = without_gravity(w_out, free, gravity, t_in, t_out);
   const Eigen::Vector3d impulse = out - w_in;
   if (!(impulse.norm() > 0)) return std::nan("");
-  const Eigen::Vector3d n = impulse.normalized();
-  const double in = w_in.dot(n);
-  if (!(in < 0)) return std::nan("");
-  return -out.dot(n) / in;
+  return rebound_along(w_in, out, impulse.normalized());
 }
 
 // The first episode of a pair in a rigid run's touches: the samples from its first touch to its
@@ -530,9 +590,9 @@ RestitutionCalibration calibrate_contact_restitution(
       if (drive) return drive->point_velocity(sides.material_point, states[b][k].time);
       return states[b][k].velocity;
     };
-    return episode_rebound(relative(rigid_velocity, n_first - 1), relative(rigid_velocity, n_last),
-                           sides, scene.gravity, states[0][n_first - 1].time,
-                           states[0][n_last].time);
+    const int from = rebound_start(k_in, n_first - 1);
+    return episode_rebound(relative(rigid_velocity, from), relative(rigid_velocity, n_last), sides,
+                           scene.gravity, states[0][from].time, states[0][n_last].time);
   };
   std::function<double(double)> twin_closeness;
   if (closeness) {
@@ -566,6 +626,17 @@ TwinCloseness twin_closeness(const SimulationRun& run, int first, int last) {
 }
 
 namespace {
+
+// The object's rebound off `plane` in bounce b of a deformable run: its centre-of-mass velocity
+// before the contact and where find_bounces reads it after (b.out_step), gravity taken off over
+// the whole episode (without_gravity), as rigid_first_rebound does on the twin; NaN unless it
+// approached the plane.
+double object_rebound(const SimulationRun& run, const Bounce& b, const Plane& plane,
+                      const Eigen::Vector3d& gravity) {
+  const StepObservables& in = run.observables.at(std::max(0, b.first_step - 1));
+  const StepObservables& out = run.observables.at(b.out_step);
+  return plane_rebound(in.com_velocity, out.com_velocity, plane.normal, gravity, in.time, out.time);
+}
 
 // Fits each plane's restitution (rigid.plane_restitution, reset to 1 first) to a deformable run's
 // first rebound off it, and each obstacle mesh's and pair of bodies' (rigid.mesh_restitution and
@@ -630,11 +701,9 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
       continue;
     }
     const Bounce& b = *contact.bounce;
-    const size_t i = contact.plane;
-    const int plane = b.planes[i];
-    const double in = b.normal_velocity_in[i], out_v = b.normal_velocity_out[i];
-    if (!(in < 0 && out_v > 0)) continue;
-    const double rebound = -out_v / in;
+    const int plane = b.planes[contact.plane];
+    const double rebound = object_rebound(run, b, scene.planes[plane], scene.gravity);
+    if (!(rebound > 0)) continue;
     bool seen = false;
     for (auto& c : calibrations) {
       if (c.contact == RestitutionContact::kPlane && c.plane == plane) {
@@ -643,9 +712,9 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
       }
     }
     if (seen) continue;
-    RestitutionCalibration c =
-        calibrate_restitution(mass, shape, scene, rigid, scene.duration, plane, rebound, tolerance,
-                              further, closeness_over(b.first_step, b.last_step));
+    RestitutionCalibration c = calibrate_restitution(
+        mass, shape, scene, rigid, scene.duration, plane, rebound, tolerance, further,
+        closeness_over(b.first_step, b.last_step), std::max(0, b.first_step - 1));
     c.time = b.first_step * scene.time_step;
     rigid.plane_restitution[plane] = c.restitution;
     calibrations.push_back(c);

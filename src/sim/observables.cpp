@@ -129,6 +129,7 @@ std::vector<Bounce> find_bounces(const std::vector<std::vector<double>>& distanc
     if (over) {
       while (j + 1 < n && j - k < settle_steps && !in_contact(j + 1)) ++j;
     }
+    b.out_step = j;
     const Eigen::Vector3d v_in = com_velocity[std::max(0, b.first_step - 1)];
     const int settled = over ? j - k : 0;
     const Eigen::Vector3d v_out = com_velocity[j] - gravity * time_step * settled;

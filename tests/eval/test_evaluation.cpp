@@ -76,7 +76,9 @@ struct TiltedCube {
     return simulate_rigid(mass, shape, scene, settings, scene.duration);
   }
   /// The twin's first rebound off the floor at restitution e.
-  double rebound_at(double e) const { return rigid_first_rebound(run(e), scene.planes[0], 0.0); }
+  double rebound_at(double e) const {
+    return rigid_first_rebound(run(e), scene.planes[0], Eigen::Vector3d::Zero());
+  }
 };
 
 // Restitution calibration on a non-spherical body, where the rebound is not the restitution and
@@ -165,7 +167,7 @@ TEST(Evaluation, RigidReboundSpansTheCornersOfOneBounceAtAFineStep) {
     impacts += std::abs(states[k + 1].velocity.z() - states[k].velocity.z()) > 1e-9;
   }
   const double whole_run = -states.back().velocity.z() / states.front().velocity.z();
-  const double rebound = rigid_first_rebound(states, scene.planes[0], 0.0);
+  const double rebound = rigid_first_rebound(states, scene.planes[0], Eigen::Vector3d::Zero());
   std::printf("tilted cube at 0.2 ms, restitution 0.5: %d impacts, rebound %.9f, whole run %.9f\n",
               impacts, rebound, whole_run);
   EXPECT_GE(impacts, 2);
@@ -174,7 +176,7 @@ TEST(Evaluation, RigidReboundSpansTheCornersOfOneBounceAtAFineStep) {
   // Cut off before it turns away, the bounce is unfinished: no rebound.
   const std::vector<RigidState> cut(states.begin(), states.begin() + 300);
   EXPECT_LT(cut.back().velocity.z(), 0);
-  EXPECT_TRUE(std::isnan(rigid_first_rebound(cut, scene.planes[0], 0.0)));
+  EXPECT_TRUE(std::isnan(rigid_first_rebound(cut, scene.planes[0], Eigen::Vector3d::Zero())));
 
   // At this step the rebound tops out near 0.38 (restitution 0.5; at 0.6 the cube leaves its first
   // corner and meets no second): 0.45 has no restitution, and the fit keeps, not fitted, the one
@@ -202,9 +204,12 @@ TEST(Evaluation, RigidReboundStartsAtAnImpactWithThePlaneItself) {
     states[k].time = 0.01 * k;
     states[k].velocity = {0.3, 0, k <= 10 ? -4.0 : k <= 20 ? -1.0 : 0.75};
   }
-  EXPECT_DOUBLE_EQ(rigid_first_rebound(states, floor, 0.0), 0.75 / 4);
-  EXPECT_DOUBLE_EQ(rigid_first_rebound(states, floor, 0.0, [](int k) { return k == 20; }), 0.75);
-  EXPECT_TRUE(std::isnan(rigid_first_rebound(states, floor, 0.0, [](int k) { return k == 5; })));
+  EXPECT_DOUBLE_EQ(rigid_first_rebound(states, floor, Eigen::Vector3d::Zero()), 0.75 / 4);
+  EXPECT_DOUBLE_EQ(
+      rigid_first_rebound(states, floor, Eigen::Vector3d::Zero(), [](int k) { return k == 20; }),
+      0.75);
+  EXPECT_TRUE(std::isnan(
+      rigid_first_rebound(states, floor, Eigen::Vector3d::Zero(), [](int k) { return k == 5; })));
   // A body at rest against the plane (normal velocity exactly 0) is struck towards it at step 5:
   // no episode starts there (it was not approaching, and -v_out / 0 is no ratio); the bounce that
   // follows, -1 -> +0.5 at step 20, is the rebound.
@@ -213,7 +218,8 @@ TEST(Evaluation, RigidReboundStartsAtAnImpactWithThePlaneItself) {
     kicked[k].time = 0.01 * k;
     kicked[k].velocity = {0, 0, k <= 5 ? 0.0 : k <= 20 ? -1.0 : 0.5};
   }
-  EXPECT_DOUBLE_EQ(rigid_first_rebound(kicked, floor, 0.0, [](int) { return true; }), 0.5);
+  EXPECT_DOUBLE_EQ(
+      rigid_first_rebound(kicked, floor, Eigen::Vector3d::Zero(), [](int) { return true; }), 0.5);
 }
 
 // The same through calibrate_restitution and Bullet: a ball dropped onto a 30 deg slope bounces

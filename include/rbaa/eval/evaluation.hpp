@@ -56,7 +56,7 @@ struct RestitutionCalibration {
   int plane = -1;    ///< kPlane: RigidWorld::planes index
   int mesh = -1;     ///< kMesh: RigidWorld::obstacle_meshes index
   /// kBodies: the pair (RigidWorld::bodies indices, 0 the object, a < b); kMesh: body_a is the
-  /// body whose episode was fitted (the mesh's first).
+  /// body whose episode was fitted (the mesh's first); kPlane: body_a is 0, the object.
   int body_a = -1, body_b = -1;
   double time = 0;                ///< of the run's first contact (s)
   /// -v_n,out / v_n,in of the baseline's first contact with the plane: a bounce's restitution,
@@ -234,23 +234,34 @@ TwinCloseness twin_closeness(const SimulationRun& run, int first, int last);
 /// a restitution adds energy at every later contact too, so it is tried (up to 3) only for a
 /// `target` above 1 (the run gained energy: a driven body's face springing back); otherwise a
 /// rebound no restitution up to 1 gives is not fitted (calibrated false; the restitution the
-/// nearest rebound's).
+/// nearest rebound's). `target_start`: the sample the target's incoming velocity was read at
+/// (rigid_first_rebound's `start`), if known.
 RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
                                              const RigidShape& shape, const Scene& scene,
                                              RigidSettings settings, double duration, int plane,
                                              double target, double tolerance,
                                              const std::vector<RigidBody>& further = {},
-                                             const TwinCloseness& closeness = nullptr);
+                                             const TwinCloseness& closeness = nullptr,
+                                             int target_start = -1);
 
 /// The first rebound ratio of a rigid trace off plane `plane` (NaN if none, or if the trace ends
-/// within the episode). An episode runs from the first step whose change of normal velocity is
-/// an impact through the next impacts while the body still approaches the plane, as the
-/// deformable run's does (impact_end), or while the next impact is at most three steps away.
-/// With `touches_plane`, only an impact k (states k to k + 1) for which it is true starts one:
-/// in a scene with other bodies or obstacles a blow from them changes the normal velocity too.
+/// within the episode): -(v_out . n) / (v_in . n), v_in the velocity before the episode's first
+/// impact, v_out after its last with the gravity gained in between taken off (v_out - g (t_out -
+/// t_in)), as the deformable targets are. An episode runs from the first step whose change of
+/// normal velocity is an impact through the next impacts while the body still approaches the
+/// plane, as the deformable run's does (impact_end), or while the next impact is at most three
+/// steps away. Without `touches_plane` an impact changes the normal velocity by more than
+/// 10 |g| h (h the states' spacing); with it, an impact is a step k (states k to k + 1) for which
+/// it is true and whose normal velocity changed by more than 0.01 |g| h, both in all and beyond
+/// gravity's own change: in a scene with other bodies or obstacles a blow from them changes the
+/// normal velocity too, and a slow impact changes it by less than 10 |g| h. After the bridge of
+/// three steps, a body that turned away and falls back begins another bounce. `start`: the
+/// sample the deformable run's incoming velocity was read at; v_in is read there instead when the
+/// first impact comes at most three samples after it (the same free fall, gravity off over the
+/// same interval: a ratio matched from samples a step apart leaves the twin about g h off).
 double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& plane,
-                           double gravity_speed_per_step,
-                           const std::function<bool(int)>& touches_plane = nullptr);
+                           const Eigen::Vector3d& gravity,
+                           const std::function<bool(int)>& touches_plane = nullptr, int start = -1);
 
 /// Fits the restitution of an obstacle mesh (settings.mesh_restitution[episode.other]) or of a
 /// pair of bodies (an entry of settings.pair_restitution) to `episode` of the deformable `run`
@@ -261,11 +272,13 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
 ///
 /// u a free body's centre-of-mass velocity, a driven body's velocity at the material point of the
 /// episode's contact point, 0 for a mesh; w_out without the gravity the free sides gained over the
-/// episode (not the contact's doing); n the direction of the episode's impulse, each run's own
-/// (frictionless: the contact normal; for two spheres the ratio is then Bullet's restitution).
-/// Every restitution in [0, 1] (up to 3 for a rebound above 1) that gives it is found, and one picked, as for planes. Not fitted (restitution 1) when the run's
-/// episode is not clean (unfinished, w_in . n >= 0, or w_out . n <= 0) or the twin never meets
-/// that pair. `further` and the body indices as simulate_rigid_bodies'.
+/// episode (not the contact's doing; both runs from the run's sample before the episode when the
+/// twin's contact comes at most three samples after it); n the direction of the episode's
+/// impulse, each run's own (frictionless: the contact normal; for two spheres the ratio is then
+/// Bullet's restitution). Every restitution in [0, 1] (up to 3 for a rebound above 1) that gives
+/// it is found, and one picked, as for planes. Not fitted (restitution 1) when the run's episode is
+/// not clean (unfinished, w_in . n >= 0, or w_out . n <= 0) or the twin never meets that pair.
+/// `further` and the body indices as simulate_rigid_bodies'.
 RestitutionCalibration calibrate_contact_restitution(
     const SimulationRun& run, const ContactEpisode& episode, const RigidMassProperties& mass,
     const RigidShape& shape, const Scene& scene, RigidSettings settings, double duration,

@@ -50,6 +50,9 @@ struct Bounce {
   std::vector<int> planes;                  ///< touched during the episode, ascending
   int first_step = 0;                       ///< first position index in contact
   int last_step = 0;                        ///< last position index in contact
+  /// Position whose velocity normal_velocity_out reads (settle_steps after the contact, fewer
+  /// before a next contact; the last position of an unfinished one).
+  int out_step = 0;
   std::vector<double> normal_velocity_in;   ///< per entry of `planes` (m/s)
   std::vector<double> normal_velocity_out;  ///< per entry of `planes` (m/s)
   /// -out / in for kBounce; NaN for every other kind.
