@@ -162,6 +162,11 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
       tracks.emplace_back(ContactEpisode::Kind::kBodies, static_cast<int>(a), static_cast<int>(b));
     }
   }
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    for (size_t p = 0; p < planes.size(); ++p) {
+      tracks.emplace_back(ContactEpisode::Kind::kPlane, static_cast<int>(b), static_cast<int>(p));
+    }
+  }
   for (PairTrack& t : tracks) t.in_contact.assign(num_positions, 0);
   // near[b][k]: body b within d_hat of anything (plane, mesh, body) at position k.
   std::vector<std::vector<char>> near(bodies.size(), std::vector<char>(num_positions, 0));
@@ -171,18 +176,29 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
   auto mark = [&](int k, const Eigen::VectorXd& q) {
     const Positions P = Eigen::Map<const Positions>(q.data(), q.size() / 3, 3);
     std::vector<contact::Aabb> boxes;
-    for (size_t b = 0; b < bodies.size(); ++b) {
-      boxes.push_back(box_of(P, surfaces[b].vertices));
-      for (const Plane& plane : planes) {
-        for (int v : surfaces[b].vertices) {
-          if (vertex_plane_distance(P.row(v).transpose(), plane) < d_hat) {
-            near[b][k] = 1;
-            break;
+    for (size_t b = 0; b < bodies.size(); ++b) boxes.push_back(box_of(P, surfaces[b].vertices));
+    for (PairTrack& t : tracks) {
+      if (t.kind == ContactEpisode::Kind::kPlane) {
+        const Plane& plane = planes[t.other];
+        double closest = d_hat;
+        int vertex = -1;
+        for (int v : surfaces[t.body].vertices) {
+          const double d = vertex_plane_distance(P.row(v).transpose(), plane);
+          if (d < closest) {
+            closest = d;
+            vertex = v;
           }
         }
+        if (vertex < 0) continue;
+        t.in_contact[k] = 1;
+        near[t.body][k] = 1;
+        if (t.first < 0) {
+          t.first = k;
+          t.normal = plane.normal;
+          t.point = P.row(vertex).transpose() - closest * plane.normal;
+        }
+        continue;
       }
-    }
-    for (PairTrack& t : tracks) {
       contact::Aabb box = boxes[t.body];
       box.inflate(d_hat);
       Closest c;
@@ -219,7 +235,8 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
   // A body's centre-of-mass velocity at grid position k (the whole mesh's for a run of one body).
   auto com_velocity = [&](int b, int k) { return body_velocity(run, b, frames[k]); };
 
-  // Pick, per mesh, the track with the earliest contact; every body pair stands alone.
+  // Pick, per mesh, the track with the earliest contact; every body pair and every (body, plane)
+  // pair stands alone.
   std::vector<const PairTrack*> chosen;
   for (size_t m = 0; m < meshes.size(); ++m) {
     const PairTrack* best = nullptr;
@@ -233,6 +250,9 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
   }
   for (const PairTrack& t : tracks) {
     if (t.kind == ContactEpisode::Kind::kBodies && t.first >= 0) chosen.push_back(&t);
+  }
+  for (const PairTrack& t : tracks) {
+    if (t.kind == ContactEpisode::Kind::kPlane && t.first >= 0) chosen.push_back(&t);
   }
   std::vector<ContactEpisode> episodes;
   for (const PairTrack* t : chosen) {
@@ -253,7 +273,7 @@ std::vector<ContactEpisode> first_contact_episodes(const SimulationRun& run,
     e.complete = e.first_step > 0 && e.last_step + 1 < num_positions;
     e.out_step = std::min(e.last_step + 1, num_positions - 1);
     auto quiet = [&](int k) {
-      return !near[e.body][k] && (e.kind == ContactEpisode::Kind::kMesh || !near[e.other][k]);
+      return !near[e.body][k] && (e.kind != ContactEpisode::Kind::kBodies || !near[e.other][k]);
     };
     while (e.out_step < e.last_step + 1 + settle_steps && e.out_step + 1 < num_positions &&
            quiet(e.out_step + 1)) {

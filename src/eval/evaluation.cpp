@@ -181,6 +181,12 @@ std::string mesh_contact_name(const Scene& scene, int mesh) {
 std::string bodies_contact_name(const Scene& scene, int a, int b) {
   return "bodies " + body_name(scene, a) + "-" + body_name(scene, b);
 }
+// "plane 0" for the object (as its bounces have always been named), "plane 0 (ball)" for a
+// further body's contact with it.
+std::string plane_contact_name(const Scene& scene, int body, int plane) {
+  const std::string name = "plane " + std::to_string(plane);
+  return body == 0 ? name : name + " (" + body_name(scene, body) + ")";
+}
 
 }  // namespace
 
@@ -506,17 +512,27 @@ RestitutionCalibration calibrate_contact_restitution(
     double tolerance, const std::vector<RigidBody>& further, const TwinCloseness& closeness) {
   RestitutionCalibration c;
   const bool mesh = episode.kind == ContactEpisode::Kind::kMesh;
+  const bool plane = episode.kind == ContactEpisode::Kind::kPlane;
+  const bool obstacle = mesh || plane;  // `other` is no body
   const int num_bodies = 1 + static_cast<int>(further.size());
+  const int num_obstacles =
+      static_cast<int>(mesh ? scene.obstacle_meshes.size() : scene.planes.size());
   if (episode.body < 0 || episode.body >= num_bodies ||
-      (mesh ? episode.other < 0 || episode.other >= static_cast<int>(scene.obstacle_meshes.size())
-            : episode.other <= episode.body || episode.other >= num_bodies)) {
-    throw InputError(scene.source + ": a contact episode names a body or mesh the scene has not");
+      (obstacle ? episode.other < 0 || episode.other >= num_obstacles
+                : episode.other <= episode.body || episode.other >= num_bodies)) {
+    throw InputError(scene.source +
+                     ": a contact episode names a body, mesh or plane the scene has not");
   }
-  c.contact = mesh ? RestitutionContact::kMesh : RestitutionContact::kBodies;
+  c.contact = mesh    ? RestitutionContact::kMesh
+              : plane ? RestitutionContact::kPlane
+                      : RestitutionContact::kBodies;
   c.body_a = episode.body;
   if (mesh) {
     c.mesh = episode.other;
     c.name = mesh_contact_name(scene, episode.other);
+  } else if (plane) {
+    c.plane = episode.other;
+    c.name = plane_contact_name(scene, episode.body, episode.other);
   } else {
     c.body_b = episode.other;
     c.name = bodies_contact_name(scene, episode.body, episode.other);
@@ -541,25 +557,42 @@ RestitutionCalibration calibrate_contact_restitution(
   };
   auto relative = [&](auto&& velocity, int k) -> Eigen::Vector3d {
     Eigen::Vector3d w = velocity(episode.body, sides.body_drive, k);
-    if (!mesh) w -= velocity(episode.other, sides.other_drive, k);
+    if (!obstacle) w -= velocity(episode.other, sides.other_drive, k);
     return w;
   };
   if (!episode.complete) return c;
+  // A plane's rebound is along its normal, as the object's bounces are (a frictional impulse is
+  // not normal to it); a mesh's and a pair's along the episode's impulse.
+  auto rebound_of = [&](const Eigen::Vector3d& w_in, const Eigen::Vector3d& w_out, double t_in,
+                        double t_out) {
+    return plane ? plane_rebound(w_in, w_out, scene.planes[episode.other].normal, scene.gravity,
+                                 t_in, t_out)
+                 : episode_rebound(w_in, w_out, sides, scene.gravity, t_in, t_out);
+  };
   const int k_in = episode.first_step - 1, k_out = episode.out_step;
   const double target =
-      episode_rebound(relative(deformable_velocity, k_in), relative(deformable_velocity, k_out),
-                      sides, scene.gravity, run.trajectory.time(grid.at(k_in)),
-                      run.trajectory.time(grid.at(k_out)));
+      rebound_of(relative(deformable_velocity, k_in), relative(deformable_velocity, k_out),
+                 run.trajectory.time(grid.at(k_in)), run.trajectory.time(grid.at(k_out)));
   c.deformable_rebound = target;
   if (!(target > 0)) return c;  // no reversal: nothing a restitution reproduces
 
   const RigidContactSide first{RigidContactSide::Kind::kBody, episode.body};
-  const RigidContactSide second{mesh ? RigidContactSide::Kind::kMesh : RigidContactSide::Kind::kBody,
+  const RigidContactSide second{mesh    ? RigidContactSide::Kind::kMesh
+                                : plane ? RigidContactSide::Kind::kPlane
+                                        : RigidContactSide::Kind::kBody,
                                 episode.other};
   if (mesh) {
     if (settings.mesh_restitution.size() < scene.obstacle_meshes.size()) {
       settings.mesh_restitution.resize(scene.obstacle_meshes.size(), 1.0);
     }
+  } else if (plane) {
+    auto& named = settings.body_plane_restitution;
+    named.erase(std::remove_if(named.begin(), named.end(),
+                               [&](const BodyPlaneRestitution& p) {
+                                 return p.body == episode.body && p.plane == episode.other;
+                               }),
+                named.end());
+    named.push_back({episode.body, episode.other, 1.0});
   } else {
     auto& pairs = settings.pair_restitution;
     pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
@@ -573,6 +606,8 @@ RestitutionCalibration calibrate_contact_restitution(
   auto set_restitution = [&](double e) {
     if (mesh) {
       settings.mesh_restitution[episode.other] = e;
+    } else if (plane) {
+      settings.body_plane_restitution.back().restitution = e;
     } else {
       settings.pair_restitution.back().restitution = e;
     }
@@ -584,6 +619,16 @@ RestitutionCalibration calibrate_contact_restitution(
     const auto states =
         simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
     const int num_samples = static_cast<int>(states.front().size());
+    if (plane) {
+      // As the object's planes: the body's own first bounce off it, rocking corners and all.
+      std::vector<char> touched(num_samples, 0);
+      for (const RigidTouch& t : touches) {
+        if (t.first == first && t.second == second) touched.at(t.sample) = 1;
+      }
+      return rigid_first_rebound(
+          states.at(episode.body), scene.planes[episode.other], scene.gravity,
+          [&](int k) { return touched.at(k + 1) != 0; }, k_in);
+    }
     const auto [n_first, n_last] = rigid_episode(touches, first, second, num_samples);
     if (n_first < 1) return std::nan("");
     auto rigid_velocity = [&](int b, const PrescribedMotion* drive, int k) -> Eigen::Vector3d {
@@ -638,14 +683,20 @@ double object_rebound(const SimulationRun& run, const Bounce& b, const Plane& pl
   return plane_rebound(in.com_velocity, out.com_velocity, plane.normal, gravity, in.time, out.time);
 }
 
-// Fits each plane's restitution (rigid.plane_restitution, reset to 1 first) to a deformable run's
-// first rebound off it, and each obstacle mesh's and pair of bodies' (rigid.mesh_restitution and
-// rigid.pair_restitution, reset to 1 and none) to the run's first episode with it, in the order of
-// the contacts, so that the rigid twin starts every contact as the run did. A corner episode has
+// Fits each plane's restitution (rigid.plane_restitution, reset to 1 first) to the object's first
+// rebound off it in a deformable run, each further body's against each plane it touches
+// (rigid.body_plane_restitution, reset to none) to that body's first episode with the plane, and
+// each obstacle mesh's and pair of bodies' (rigid.mesh_restitution and rigid.pair_restitution,
+// reset to 1 and none) to the run's first episode with it, in the order of the contacts, so that
+// the rigid twin starts every contact as the run did. Bullet gets each (body, plane) pair's own
+// value: the object's is the plane's restitution (times the body's 1), a further body's an entry
+// of body_plane_restitution, which overrides that product for its contact points; one plane met
+// by bodies with different rebounds thus keeps each body's (the cube stack's ground met by the
+// bottom cube alone was left at 1, elastic, and the resting stack fell). A corner episode has
 // no restitution, but the rigid twin meets the same corner: its rebound ratio along each touched
 // plane's normal across the episode is what rigid_first_rebound measures on the twin, so that
-// ratio is the target (when the normal velocity reversed). A scene with one body and no meshes
-// has only planes, fitted exactly as before meshes and pairs were.
+// ratio is the target (when the normal velocity reversed). A plane the object touches without a
+// rebound to fit is listed, not fitted. A scene with one body and no meshes has only planes.
 std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
                                                      const RigidMassProperties& mass,
                                                      const RigidShape& shape, const Scene& scene,
@@ -655,9 +706,16 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
   rigid.plane_restitution.assign(scene.planes.size(), 1.0);
   rigid.mesh_restitution.assign(scene.obstacle_meshes.size(), 1.0);
   rigid.pair_restitution.clear();
+  rigid.body_plane_restitution.clear();
   std::vector<ContactEpisode> episodes;
   if (!scene.obstacle_meshes.empty() || !further.empty()) {
     episodes = first_contact_episodes(run, scene.obstacle_meshes, scene.planes, scene.d_hat);
+    // The object's planes are its bounces' (corners, later rebounds).
+    episodes.erase(std::remove_if(episodes.begin(), episodes.end(),
+                                  [](const ContactEpisode& e) {
+                                    return e.kind == ContactEpisode::Kind::kPlane && e.body == 0;
+                                  }),
+                   episodes.end());
   }
   // Every contact in time order: the planes' in the order of the bounces (as before), the
   // episodes' merged in by their first step.
@@ -694,6 +752,8 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
           closeness_over(e.first_step, e.out_step));
       if (c.contact == RestitutionContact::kMesh) {
         rigid.mesh_restitution[c.mesh] = c.restitution;
+      } else if (c.contact == RestitutionContact::kPlane) {
+        rigid.body_plane_restitution.push_back({c.body_a, c.plane, c.restitution});
       } else {
         rigid.pair_restitution.push_back({c.body_a, c.body_b, c.restitution});
       }
@@ -706,7 +766,7 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
     if (!(rebound > 0)) continue;
     bool seen = false;
     for (auto& c : calibrations) {
-      if (c.contact == RestitutionContact::kPlane && c.plane == plane) {
+      if (c.contact == RestitutionContact::kPlane && c.body_a == 0 && c.plane == plane) {
         if (b.kind == BounceKind::kBounce) c.later_deformable_rebounds.push_back(rebound);
         seen = true;
       }
@@ -718,6 +778,25 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
     c.time = b.first_step * scene.time_step;
     rigid.plane_restitution[plane] = c.restitution;
     calibrations.push_back(c);
+  }
+  // Planes the object touched with no rebound to fit (no reversal, an unfinished contact), each at
+  // its first contact: their restitution stays 1, and the report says so.
+  for (const Bounce& b : run.bounces) {
+    for (const int plane : b.planes) {
+      const bool listed = std::any_of(calibrations.begin(), calibrations.end(), [&](const auto& c) {
+        return c.contact == RestitutionContact::kPlane && c.body_a == 0 && c.plane == plane;
+      });
+      if (listed) continue;
+      RestitutionCalibration c;
+      c.contact = RestitutionContact::kPlane;
+      c.plane = plane;
+      c.body_a = 0;
+      c.name = plane_contact_name(scene, 0, plane);
+      c.time = b.first_step * scene.time_step;
+      c.deformable_rebound =
+          b.complete() ? object_rebound(run, b, scene.planes[plane], scene.gravity) : std::nan("");
+      calibrations.push_back(c);
+    }
   }
   return calibrations;
 }

@@ -103,6 +103,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     switch (c.contact) {
       case RestitutionContact::kPlane:
         j["plane"] = c.plane;
+        j["body"] = c.body_a;
         break;
       case RestitutionContact::kMesh:
         j["mesh"] = c.mesh;
@@ -251,7 +252,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
         << (compared == "object" ? std::string("object's centre of mass")
                                  : "centre of mass of body '" + compared + "'")
         << ".\n\n"
-        << "Restitution per plane, obstacle mesh and pair of bodies, fitted to the deformable baseline's first "
+        << "Restitution per plane (each body's against it: `plane 0 (ball)`), obstacle mesh and pair of bodies, "
+           "fitted to the deformable baseline's first "
            "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact's impulse; "
            "restitution in [0, 1], above 1 only for a rebound above 1; of several that fit, the one whose twin "
            "follows the baseline closest; not fitted: the restitution whose rebound came nearest, or 1 if the "

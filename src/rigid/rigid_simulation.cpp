@@ -56,14 +56,15 @@ std::pair<RigidContactSide, RigidContactSide> ordered(RigidContactSide x, RigidC
 // Bullet's dynamics world with three things done between collision detection and the solve,
 // where the new contact points of the step exist but have no impulse yet:
 // * every contact point gets its pair's Coulomb coefficient (rigid_friction), and named pairs of
-//   bodies their own restitution. Bullet otherwise gives a pair the product of the two objects'
-//   values (which cannot give ball-bat and ball-floor independent values once the ball's own
-//   factor is shared) or a process-wide callback (global state, shared by every world in the
-//   process); overwriting the points' combined values here touches only this world. The solver
-//   reads them when it converts the points into constraints (btSequentialImpulseConstraintSolver::
-//   convertContact, within the solve called below): m_combinedFriction becomes each friction
-//   row's bound, mu times the point's normal impulse; rolling and spinning friction rows exist
-//   only when m_combinedRollingFriction > 0, which stays 0 here.
+//   bodies and (body, plane) pairs their own restitution. Bullet otherwise gives a pair the product
+//   of the two objects' values (which cannot give ball-bat and ball-floor independent values once
+//   the ball's own factor is shared) or a process-wide callback (global state, shared by every
+//   world in the process); overwriting the points' combined values here touches only this world.
+//   The solver reads them when it converts the points into constraints
+//   (btSequentialImpulseConstraintSolver::convertContact, within the solve called below):
+//   m_combinedFriction becomes each friction row's bound, mu times the point's normal impulse;
+//   rolling and spinning friction rows exist only when m_combinedRollingFriction > 0, which stays
+//   0 here.
 // * every pair with a point the solver will treat (distance <= the manifold's processing
 //   threshold, the solver's own test) is logged, for the calibration's contact episodes.
 class TwinDynamicsWorld : public btDiscreteDynamicsWorld {
@@ -72,6 +73,7 @@ class TwinDynamicsWorld : public btDiscreteDynamicsWorld {
 
   const RigidWorld* model = nullptr;                       // its friction coefficients
   std::map<std::pair<int, int>, double> pair_restitution;  // (body a, body b), a < b
+  std::map<std::pair<int, int>, double> plane_restitution;  // (body, plane)
   bool log_touches = false;
   std::set<std::tuple<int, int, int, int>> touching;  // since the last clear: ordered pairs
 
@@ -88,9 +90,12 @@ class TwinDynamicsWorld : public btDiscreteDynamicsWorld {
         point.m_combinedRollingFriction = 0;
         point.m_combinedSpinningFriction = 0;
       }
-      if (y.kind == RigidContactSide::Kind::kBody && !pair_restitution.empty()) {
-        const auto it = pair_restitution.find({x.index, y.index});
-        if (it != pair_restitution.end()) {
+      const auto* named = y.kind == RigidContactSide::Kind::kBody    ? &pair_restitution
+                          : y.kind == RigidContactSide::Kind::kPlane ? &plane_restitution
+                                                                     : nullptr;
+      if (named && !named->empty()) {
+        const auto it = named->find({x.index, y.index});
+        if (it != named->end()) {
           for (int p = 0; p < m->getNumContacts(); ++p) {
             m->getContactPoint(p).m_combinedRestitution = it->second;
           }
@@ -256,9 +261,9 @@ btTransform kinematic_pose(const RigidBody& r, double t) {
                      to_bt(r.drive.position(r.mass.centre, t)));
 }
 
-// Throws unless every restitution is a finite number >= 0 and every pair names two different
-// bodies of the world, once.
-void validate_restitutions(const RigidSettings& settings, int num_bodies) {
+// Throws unless every restitution is a finite number >= 0, every pair names two different bodies
+// of the world, once, and every (body, plane) pair a body and a plane of the world, once.
+void validate_restitutions(const RigidSettings& settings, int num_bodies, int num_planes) {
   auto check = [](double e, const std::string& what) {
     if (!(e >= 0) || !std::isfinite(e)) {
       std::ostringstream msg;
@@ -282,6 +287,20 @@ void validate_restitutions(const RigidSettings& settings, int num_bodies) {
                        std::to_string(num_bodies) + " in the world");
     }
     if (!seen.insert(std::minmax(p.a, p.b)).second) {
+      throw InputError("rigid settings: " + name + " is given twice");
+    }
+    check(p.restitution, name);
+  }
+  std::set<std::pair<int, int>> seen_planes;
+  for (const BodyPlaneRestitution& p : settings.body_plane_restitution) {
+    const std::string name = "the restitution of body " + std::to_string(p.body) +
+                             " against plane " + std::to_string(p.plane);
+    if (p.body < 0 || p.body >= num_bodies || p.plane < 0 || p.plane >= num_planes) {
+      throw InputError("rigid settings: " + name + " must name one of the " +
+                       std::to_string(num_bodies) + " bodies and one of the " +
+                       std::to_string(num_planes) + " planes in the world");
+    }
+    if (!seen_planes.insert({p.body, p.plane}).second) {
       throw InputError("rigid settings: " + name + " is given twice");
     }
     check(p.restitution, name);
@@ -360,7 +379,8 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
         << settings.internal_step << " s and " << settings.margin << " m";
     throw InputError(msg.str());
   }
-  validate_restitutions(settings, static_cast<int>(world.bodies.size()));
+  validate_restitutions(settings, static_cast<int>(world.bodies.size()),
+                        static_cast<int>(world.planes.size()));
   validate_friction(world);
   if (touches) touches->clear();
   const double h = world.time_step;
@@ -405,6 +425,9 @@ std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
   w.world.model = &world;
   for (const BodyPairRestitution& p : settings.pair_restitution) {
     w.world.pair_restitution[std::minmax(p.a, p.b)] = p.restitution;
+  }
+  for (const BodyPlaneRestitution& p : settings.body_plane_restitution) {
+    w.world.plane_restitution[{p.body, p.plane}] = p.restitution;
   }
   w.world.log_touches = touches != nullptr;
 

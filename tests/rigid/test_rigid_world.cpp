@@ -259,6 +259,28 @@ TEST(RigidBodies, APairsRestitutionIsItsOwnAndTheTouchLogNamesEveryContact) {
   EXPECT_NEAR(elastic[0].back().velocity.x() - elastic[1].back().velocity.x(), -2.0, 1e-6);
 }
 
+// Per-(body, plane) restitution: two balls dropped side by side onto one floor, the floor's own
+// restitution 0.8 and ball 1's against it named 0.3. Gravity off, so each ball's normal velocity
+// is constant before and after its one bounce: ball 0 rebounds at 0.8 (its own 1 times the
+// floor's), ball 1 at exactly its named 0.3.
+TEST(RigidBodies, ABodysRestitutionAgainstAPlaneIsItsOwn) {
+  const TetMesh ball = mesh_shape("sphere", 300);
+  RigidWorld world;
+  world.gravity.setZero();
+  world.time_step = 0.01;
+  world.bodies = {twin(ball, Eigen::Vector3d(0, 0, 0.3), 1000, Eigen::Vector3d(0, 0, -1)),
+                  twin(ball, Eigen::Vector3d(1, 0, 0.3), 1000, Eigen::Vector3d(0, 0, -1))};
+  world.planes = {Plane{Eigen::Vector3d::UnitZ(), 0.0}};
+  RigidSettings settings;
+  settings.plane_restitution = {0.8};
+  settings.body_plane_restitution = {{1, 0, 0.3}};
+  const auto states = simulate_rigid(world, settings, 0.5);
+  std::printf("floor 0.8, ball 1 against it 0.3: rebounds %.9f and %.9f\n",
+              states[0].back().velocity.z(), states[1].back().velocity.z());
+  EXPECT_NEAR(states[0].back().velocity.z(), 0.8, 1e-5);
+  EXPECT_NEAR(states[1].back().velocity.z(), 0.3, 1e-5);
+}
+
 TEST(RigidBodies, BadRestitutionsAreRefusedInOneLine) {
   const TetMesh ball = mesh_shape("sphere", 300);
   RigidWorld world;
@@ -282,12 +304,15 @@ TEST(RigidBodies, BadRestitutionsAreRefusedInOneLine) {
   negative.pair_restitution = {{0, 1, -0.1}};
   RigidSettings negative_mesh;
   negative_mesh.mesh_restitution = {-1};
+  RigidSettings no_plane;  // the world has no planes
+  no_plane.body_plane_restitution = {{0, 0, 0.5}};
   const std::vector<std::pair<RigidSettings, std::string>> cases = {
       {missing, "must name two different bodies of the 2"},
       {same, "bodies (1, 1) must name two different bodies"},
       {twice, "is given twice"},
       {negative, "bodies (0, 1) must be a finite number >= 0, got -0.1"},
-      {negative_mesh, "obstacle mesh 0's restitution must be a finite number >= 0"}};
+      {negative_mesh, "obstacle mesh 0's restitution must be a finite number >= 0"},
+      {no_plane, "body 0 against plane 0 must name one of the 2 bodies and one of the 0 planes"}};
   for (const auto& [settings, expected] : cases) {
     const std::string what = error(settings);
     EXPECT_NE(what.find(expected), std::string::npos) << what;

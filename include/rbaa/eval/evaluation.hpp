@@ -52,11 +52,14 @@ struct RestitutionCalibration {
   /// not end) or the rigid twin never meets that contact: the restitution then stays 1.
   bool calibrated = false;
   RestitutionContact contact = RestitutionContact::kPlane;
-  std::string name;  ///< the report's: "plane 0", "mesh backboard", "bodies object-ball"
+  /// The report's: "plane 0" (the object's), "plane 0 (ball)", "mesh backboard", "bodies
+  /// object-ball".
+  std::string name;
   int plane = -1;    ///< kPlane: RigidWorld::planes index
   int mesh = -1;     ///< kMesh: RigidWorld::obstacle_meshes index
   /// kBodies: the pair (RigidWorld::bodies indices, 0 the object, a < b); kMesh: body_a is the
-  /// body whose episode was fitted (the mesh's first); kPlane: body_a is 0, the object.
+  /// body whose episode was fitted (the mesh's first); kPlane: body_a is the body (0 the object,
+  /// whose value is the plane's own; a further body's is its own against the plane).
   int body_a = -1, body_b = -1;
   double time = 0;                ///< of the run's first contact (s)
   /// -v_n,out / v_n,in of the baseline's first contact with the plane: a bounce's restitution,
@@ -263,10 +266,11 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
                            const Eigen::Vector3d& gravity,
                            const std::function<bool(int)>& touches_plane = nullptr, int start = -1);
 
-/// Fits the restitution of an obstacle mesh (settings.mesh_restitution[episode.other]) or of a
-/// pair of bodies (an entry of settings.pair_restitution) to `episode` of the deformable `run`
-/// (contact_episodes.hpp), so that the rigid twin's first episode of the same pair (Bullet's own
-/// contacts, RigidTouch) has the same rebound ratio
+/// Fits the restitution of an obstacle mesh (settings.mesh_restitution[episode.other]), of a body
+/// against a plane (an entry of settings.body_plane_restitution) or of a pair of bodies (an entry
+/// of settings.pair_restitution) to `episode` of the deformable `run` (contact_episodes.hpp), so
+/// that the rigid twin's first episode of the same pair (Bullet's own contacts, RigidTouch) has
+/// the same rebound ratio
 ///
 ///   -(w_out . n) / (w_in . n),  w = u_body - u_other,  n = (w_out - w_in) / |w_out - w_in|,
 ///
@@ -275,8 +279,9 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
 /// episode (not the contact's doing; both runs from the run's sample before the episode when the
 /// twin's contact comes at most three samples after it); n the direction of the episode's
 /// impulse, each run's own (frictionless: the contact normal; for two spheres the ratio is then
-/// Bullet's restitution). Every restitution in [0, 1] (up to 3 for a rebound above 1) that gives
-/// it is found, and one picked, as for planes. Not fitted (restitution 1) when the run's episode is
+/// Bullet's restitution). A plane's n is its normal, and the twin's episode rigid_first_rebound's
+/// on that body's states. Every restitution in [0, 1] (up to 3 for a rebound above 1) that gives it
+/// is found, and one picked, as for planes. Not fitted (restitution 1) when the run's episode is
 /// not clean (unfinished, w_in . n >= 0, or w_out . n <= 0) or the twin never meets that pair.
 /// `further` and the body indices as simulate_rigid_bodies'.
 RestitutionCalibration calibrate_contact_restitution(

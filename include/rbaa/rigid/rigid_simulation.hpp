@@ -20,13 +20,21 @@ struct BodyPairRestitution {
   double restitution = 1.0;
 };
 
+/// The restitution of one body against one plane (indices in RigidWorld::bodies and ::planes).
+struct BodyPlaneRestitution {
+  int body = 0, plane = 0;
+  double restitution = 1.0;
+};
+
 /// Bullet combines the restitutions of the two objects in a contact by their product: a body
 /// against obstacle i has restitution * plane_restitution[i] (or mesh_restitution[i]); two bodies
 /// have restitution^2, unless pair_restitution names the pair: then exactly its value (a product
 /// of per-body factors cannot give every pair its own value, so the twin overwrites the pair's
-/// contact points before each solve). Friction is not here but in RigidWorld: it is the scene's
-/// physical coefficient, the deformable simulator's too, while these are the twin's numerics and
-/// its fitted (calibrated) restitutions.
+/// contact points before each solve); likewise a body against a plane that body_plane_restitution
+/// names has exactly its value, in place of restitution * plane_restitution[i] (bodies of one
+/// scene meet the same floor with different rebounds: each is fitted to its own). Friction is not
+/// here but in RigidWorld: it is the scene's physical coefficient, the deformable simulator's too,
+/// while these are the twin's numerics and its fitted (calibrated) restitutions.
 struct RigidSettings {
   double internal_step = 1e-3;  ///< Bullet's fixed step (s); outputs are sampled at the world's h
   double restitution = 1.0;     ///< body restitution; Bullet multiplies it with the obstacle's
@@ -36,6 +44,9 @@ struct RigidSettings {
   std::vector<double> mesh_restitution;
   /// Restitution of named pairs of bodies, in place of restitution^2; at most one entry a pair.
   std::vector<BodyPairRestitution> pair_restitution;
+  /// Restitution of named (body, plane) pairs, in place of restitution * plane_restitution[plane];
+  /// at most one entry a pair.
+  std::vector<BodyPlaneRestitution> body_plane_restitution;
   double margin = 1e-4;  ///< collision margin (m), at most d_hat (Bullet's 0.04 m default
                          ///< is nearly the cube's half size)
   /// Split impulse with a generous penetration threshold: Bullet's default Baumgarte correction
@@ -103,7 +114,8 @@ struct RigidTouch {
 /// between two samples (once a sample, in sample order). Throws rbaa::InputError naming the body
 /// or value at fault (no bodies, non-positive mass or inertia, bad step or margin, empty
 /// obstacle mesh, a negative or non-finite restitution or friction coefficient, a pair
-/// restitution or friction naming a missing body, one body twice or one pair twice).
+/// restitution or friction naming a missing body, one body twice or one pair twice, a body-plane
+/// restitution naming a missing body or plane, or one pair twice).
 std::vector<std::vector<RigidState>> simulate_rigid(const RigidWorld& world,
                                                     const RigidSettings& settings, double duration,
                                                     std::vector<RigidTouch>* touches = nullptr);
