@@ -110,8 +110,11 @@ RBAA_REGISTER_VERB(evaluate, rbaa::cli::Verb{
     "--time_step=auto refines the attack's step by 4 until it strays less than\n"
     "evaluation.baseline_tolerance (default 0.5 %) of its path. A fifth run, the reference shape\n"
     "in uniform material at the softest allowed Y, shows what softness alone does.\n"
+    "Gaps, velocity angles and orientation gaps compare the runs at the end time T (the angle\n"
+    "is between the velocities at T, not the outgoing ones after a contact).\n"
     "A config with a demonstration block also gets an outcome table (its predicate, e.g. the\n"
-    "ball passes through the hoop, and its figure per run) in summary.md and report.json.\n"
+    "ball passes through the hoop, and its figure per run, e.g. the angle of the velocity at T)\n"
+    "in summary.md and report.json.\n"
     "--adversarial=reference evaluates the stiff reference as its own adversary (a scene check).\n"
     "An attack on another body (attack.body) is evaluated with that body in the object's place.\n"
     "Writes DIR/report.json, DIR/summary.md, one CSV per run and DIR/paths.png.",

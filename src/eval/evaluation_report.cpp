@@ -273,7 +273,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
           << "`"
           << (demo.figure.empty()
                   ? std::string()
-                  : "; figure: the angle between the final centre-of-mass velocity of body '" +
+                  : "; figure: the angle between the centre-of-mass velocity at T (the run's end, not just after a bounce) of body '" +
                         demo.figure_body + "' and " +
                         (demo.figure_against_own_simulator ? "the same simulator's reference run's"
                                                            : "the rigid reference's") +
@@ -296,7 +296,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       }
     }
     out << "\n"
-        << "| pair | centre-of-mass gap at T (m) | max gap (m) | velocity angle (deg) | orientation gap (deg) |\n"
+        << "| pair | centre-of-mass gap at T (m) | max gap (m) | velocity angle at T (deg) | orientation gap at T (deg) |\n"
         << "|---|---|---|---|---|\n";
     std::vector<const RunComparison*> pairs = {&ev.rigid_vs_rigid, &ev.deformable_vs_deformable,
                                                &ev.deformable_vs_rigid, &ev.adversarial_vs_rigid};
@@ -338,8 +338,10 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
     }
     if (!ev.deformable_soft.time.empty()) {
       out << "Control: the reference shape in uniform material at the softest allowed Y = " << fmt(ev.soft_Y)
-          << " Pa (same moments) ends " << fmt(ev.soft_vs_deformable.position_gap) << " m and "
-          << fmt(ev.soft_vs_deformable.velocity_angle_deg) << " deg from the baseline; the attacked object's gap is "
+          << " Pa (same moments) ends " << fmt(ev.soft_vs_deformable.position_gap)
+          << " m from the baseline, its velocity at T "
+          << fmt(ev.soft_vs_deformable.velocity_angle_deg)
+          << " deg from the baseline's; the attacked object's gap is "
           << fmt(ev.soft_vs_deformable.position_gap > 0
                      ? ev.deformable_vs_deformable.position_gap / ev.soft_vs_deformable.position_gap
                      : INFINITY, 3)

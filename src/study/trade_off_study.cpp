@@ -792,7 +792,7 @@ void write_study_outputs(const StudyResult& result, const std::string& dir) {
     }
     if (!result.survival.empty() || !result.survival_note.empty()) {
       md << "## Does the attack survive refinement?\n\n"
-         << "| setting | tets | COM gap at T (m) | velocity angle (deg) | orientation gap (deg) | "
+         << "| setting | tets | COM gap at T (m) | velocity angle at T (deg) | orientation gap at T (deg) | "
             "moment residual |\n|---|---|---|---|---|---|\n";
       for (const SurvivalPoint& s : result.survival) {
         md << "| " << s.label << " | " << s.tets << " | " << number(s.gap, 4) << " | "

@@ -96,9 +96,10 @@ struct DemonstrationRun {
 };
 
 /// The outcome table: per run that was made, the predicate and the figure: the angle between
-/// the final centre-of-mass velocity of demo.figure_body and that of the rigid reference (or,
-/// with figure_against_own_simulator, of the reference run with the same simulator), projected
-/// normal to `gravity` with figure_horizontal. A figure whose reference run is missing is NaN.
+/// the centre-of-mass velocity at T (the run's end) of demo.figure_body and that of the rigid
+/// reference (or, with figure_against_own_simulator, of the reference run with the same simulator),
+/// projected normal to `gravity` with figure_horizontal. A figure whose reference run is missing is
+/// NaN.
 std::vector<DemonstrationOutcome> demonstration_outcomes(const DemonstrationSpec& demo,
                                                          const std::vector<DemonstrationRun>& runs,
                                                          const Eigen::Vector3d& gravity);

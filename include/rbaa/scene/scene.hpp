@@ -137,14 +137,15 @@ const char* predicate_kind_name(PredicateSpec::Kind kind);
 struct DemonstrationSpec {
   bool enabled = false;
   PredicateSpec predicate;
-  /// The scene's figure per run: "angle" (the angle between the run's final centre-of-mass
-  /// velocity of `figure_body` and a reference run's, deg), or "" (none).
+  /// The scene's figure per run: "angle" (the angle between the run's centre-of-mass velocity of
+  /// `figure_body` at T, the run's end, and a reference run's at T, deg), or "" (none).
   std::string figure;
   std::string figure_body;  ///< "object" or a bodies[i].name; default evaluation.body
   /// Which run the figure is measured against (figure_against): the rigid reference (false,
   /// the default), or the reference run of the same simulator (true: a rigid run against the
   /// rigid reference, a deformable run against the deformable reference), which is the paper's
-  /// separation between the reference's and the adversarial's outgoing directions.
+  /// separation between the reference's and the adversarial's outgoing directions where nothing
+  /// turns the velocity between the last contact and T.
   bool figure_against_own_simulator = false;
   /// figure_projection: horizontal. Both velocities are projected onto the plane normal to
   /// gravity first: free flight under gravity leaves that part unchanged, so a body flying on
