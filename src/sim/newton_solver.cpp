@@ -46,11 +46,12 @@ double parabola(double u, double x1, double f1, double x2, double f2, double x3,
 }
 
 // The minimum of phi(a) = E(step_at(a)) - E(x) in the bracket (0, 2 alpha), where phi(0) = 0,
-// phi(alpha) = dE <= 0 and phi(2 alpha) = dE_far > dE (+inf for an invalid iterate): Brent's
+// phi(alpha) = dE <= 0 and phi(2 alpha) = dE_far > dE (+inf for an invalid iterate, or NaN): Brent's
 // method, a parabola through the three best points where it falls well inside the bracket and a
-// golden-section step into the larger side where it does not. The first probe is the parabola
-// through 0, alpha and 2 alpha, the minimum itself where the energy is quadratic along the step;
-// where it is V-shaped (lagged friction, below) the golden steps narrow the bracket. A parabolic
+// golden-section step into the larger side where it does not. Where dE_far is finite the first
+// probe is the parabola through 0, alpha and 2 alpha, the minimum itself where the energy is
+// quadratic along the step (else a golden-section step); where it is V-shaped (lagged friction,
+// below) the golden steps narrow the bracket. A parabolic
 // probe that lowers the energy by what its parabola foretold ends the search. Returns the
 // best fraction found and sets dE and trial to it; an invalid probe counts as no decrease. Every
 // probe lies below 2 alpha, within the CCD bound.
@@ -68,8 +69,9 @@ double minimise_along(IncrementalPotential& E, const Eigen::VectorXd& x, const S
     second = hi;
     f_second = dE_far;
   }
-  double step = 0, step_before = hi - lo;  // the last two moves of the best point
-  double predicted = 0;  // the parabola's value at the probe (NaN for a golden-section probe)
+  // The last two moves of the best point: the backtracking's last halving (2 alpha to alpha) and,
+  // before it, the bracket's width, so that the first two probes may both be parabolic.
+  double step = -alpha, step_before = hi - lo;
   for (int k = 0; k < kMaxLineProbes; ++k) {
     const double mid = 0.5 * (lo + hi);
     const double tol = 0.25 * kLineTolerance * best;
@@ -91,15 +93,16 @@ double minimise_along(IncrementalPotential& E, const Eigen::VectorXd& x, const S
         const double a = best + step;
         if (a - lo < 2 * tol || hi - a < 2 * tol) step = mid > best ? tol : -tol;
         golden = false;
-        predicted = parabola(best + step, best, f_best, second, f_second, third, f_third);
       }
     }
     if (golden) {
       step_before = best >= mid ? lo - best : hi - best;
       step = kGolden * step_before;
-      predicted = std::numeric_limits<double>::quiet_NaN();
     }
     const double a = best + (std::abs(step) >= tol ? step : (step > 0 ? tol : -tol));
+    // The parabola's value where it sends the probe (NaN for a golden-section probe).
+    const double predicted = golden ? std::numeric_limits<double>::quiet_NaN()
+                                    : parabola(a, best, f_best, second, f_second, third, f_third);
     Eigen::VectorXd probe = step_at(a);
     ++result.line_search_probes;
     double phi = std::numeric_limits<double>::infinity();
@@ -209,6 +212,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
   const double h = settings_.time_step;
   const double tol = settings_.velocity_tolerance;
   NewtonResult result;
+  const int analyses_before = solver_.num_analyses();
   E.solution_changed(x);
   const bool chord = settings_.chord_first_step && factor_from_last_call_;
   // Until this call returns converged, solver_ may hold a factor of a failed iterate.
@@ -256,20 +260,16 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     H_last = H;
     lap(t0, result.assembly_seconds);
     // Read after assembling: contact between bodies changes the pattern with the active pairs.
-    const int analyses = solver_.num_analyses();
     bool ok = solver_.factorize(*H, E.hessian_pattern().pattern_version());
     lap(t0, result.factorization_seconds);
-    result.symbolic_analyses += solver_.num_analyses() - analyses;
     if (!ok && kind == HessianKind::kExact) {
       ++result.projected_fallbacks;
       kind = HessianKind::kProjected;
       H = &E.hessian(x, kind);
       H_last = H;
       lap(t0, result.assembly_seconds);
-      const int analyses_again = solver_.num_analyses();
       ok = solver_.factorize(*H, E.hessian_pattern().pattern_version());
       lap(t0, result.factorization_seconds);
-      result.symbolic_analyses += solver_.num_analyses() - analyses_again;
     }
     if (!ok) {
       throw SolverError(context + ": the projected Hessian is not positive definite at Newton "
@@ -291,6 +291,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     }
     if (velocity < tol) {
       factor_from_last_call_ = true;
+      result.symbolic_analyses = solver_.num_analyses() - analyses_before;
       return result;
     }
     const bool floor_regime =
@@ -303,6 +304,7 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
         result.roundoff_limited = true;
         result.floor_velocity = best_velocity;
         factor_from_last_call_ = true;
+        result.symbolic_analyses = solver_.num_analyses() - analyses_before;
         return result;
       }
     } else {

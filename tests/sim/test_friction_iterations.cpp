@@ -185,6 +185,7 @@ TEST(FrictionIterations, AStepsNewtonStatisticsAddUpOverItsSolves) {
     r.projected_fallbacks = static_cast<int>(4 * base);
     r.extrapolations = static_cast<int>(5 * base);
     r.chord_steps = static_cast<int>(6 * base);
+    r.symbolic_analyses = static_cast<int>(7 * base);
     r.roundoff_limited = base > 1;
     r.floor_velocity = base + 0.25;
     r.gradient_seconds = 0.1 * base;
@@ -204,6 +205,7 @@ TEST(FrictionIterations, AStepsNewtonStatisticsAddUpOverItsSolves) {
   EXPECT_EQ(r.projected_fallbacks, 44);
   EXPECT_EQ(r.extrapolations, 55);
   EXPECT_EQ(r.chord_steps, 66);
+  EXPECT_EQ(r.symbolic_analyses, 77);
   EXPECT_TRUE(r.roundoff_limited);
   EXPECT_EQ(r.floor_velocity, 10.25);
   EXPECT_DOUBLE_EQ(r.gradient_seconds, 1.1);

@@ -2,9 +2,9 @@
 // Projected Newton for one time step (SPEC section 2). Each iteration assembles the Hessian
 // (element Hessians projected to PSD, barrier Hessians clamped PSD), factorises it with CHOLMOD,
 // and takes the step dq = -H^-1 grad E. The step length starts at the largest fraction the forms
-// allow (CCD) and halves until E decreases and the iterate is valid; after a halving, a
-// golden-section search between zero and twice that fraction finds the minimum of E along the
-// step (newton_solver.cpp says why). Convergence: the step's
+// allow (CCD) and halves until E decreases and the iterate is valid; after a halving, Brent's
+// search between zero and twice that fraction finds the minimum of E along the step
+// (newton_solver.cpp says why). Convergence: the step's
 // velocity ||dq||_inf / h below the tolerance.
 //
 // After a full step (no backtracking) whose velocity is below exact_hessian_factor x the
