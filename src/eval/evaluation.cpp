@@ -406,7 +406,7 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
   c.contact = RestitutionContact::kPlane;
   c.plane = plane;
   c.body_a = 0;
-  c.name = "plane " + std::to_string(plane);
+  c.name = plane_contact_name(scene, 0, plane);
   if (settings.plane_restitution.size() < scene.planes.size()) settings.plane_restitution.resize(scene.planes.size(), 1.0);
   // The episode starts at an impact with this plane, Bullet's own contact (RigidTouch), not at a
   // blow from another body or obstacle that the object then carries down onto the plane.
@@ -753,7 +753,12 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
       if (c.contact == RestitutionContact::kMesh) {
         rigid.mesh_restitution[c.mesh] = c.restitution;
       } else if (c.contact == RestitutionContact::kPlane) {
-        rigid.body_plane_restitution.push_back({c.body_a, c.plane, c.restitution});
+        // Only a fit, or the nearest rebound the twin reached, overrides the plane's own value
+        // for this body: an episode with nothing to fit (unclean, unfinished, no reversal, a
+        // driven body) leaves it the plane's restitution, not 1 (review of 8d8355f).
+        if (c.calibrated || std::isfinite(c.rigid_rebound)) {
+          rigid.body_plane_restitution.push_back({c.body_a, c.plane, c.restitution});
+        }
       } else {
         rigid.pair_restitution.push_back({c.body_a, c.body_b, c.restitution});
       }

@@ -314,7 +314,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
       const size_t n = ev.step_search.size();
       if (n > 1) {
         // What a last refinement bought tells the step's share from the rigid model's (one
-        // restitution per plane), which no step removes.
+        // restitution per contact), which no step removes.
         out << " after " << n - 1 << " refinements (the last took it from " << fmt(100 * ev.step_search[n - 2].disagreement, 3)
             << " % to " << fmt(100 * ev.step_search[n - 1].disagreement, 3)
             << " %; what does not shrink with the step is the rigid model's).";
@@ -348,7 +348,7 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
           << " x that (above 1 the optimisation adds to what softness alone does; below 1 it does not).\n";
     }
     out << "\nEach deformable run against a rigid twin calibrated to its own rebounds (its own moments, "
-           "each plane's, mesh's and pair's restitution fitted to its own first contact with it): what remains is what no "
+           "each plane's (each body's against it), mesh's and pair's restitution fitted to its own first contact with it): what remains is what no "
            "rigid simulator with a tuned restitution explains.\n\n"
         << "| run | fitted restitutions | gap at T (m) | max gap (m) | max gap / path | velocity angle at T (deg) |\n"
         << "|---|---|---|---|---|---|\n";

@@ -62,9 +62,11 @@ struct RestitutionCalibration {
   /// whose value is the plane's own; a further body's is its own against the plane).
   int body_a = -1, body_b = -1;
   double time = 0;                ///< of the run's first contact (s)
-  /// -v_n,out / v_n,in of the baseline's first contact with the plane: a bounce's restitution,
-  /// or, for a corner episode, the ratio along this plane's normal across the episode (a fit
-  /// target for the twin, which meets the same corner; no restitution of the plane alone).
+  /// -v_n,out / v_n,in of the baseline's first contact with the plane, gravity taken off over the
+  /// whole episode (so not the `restitution` rbaa simulate reports for a bounce, whose
+  /// find_bounces takes it off over the settle steps only), or, for a corner episode, the ratio
+  /// along this plane's normal across the episode (a fit target for the twin, which meets the
+  /// same corner; no restitution of the plane alone).
   /// For a mesh or a pair: the same ratio of the relative velocity along the episode's contact
   /// normal (calibrate_contact_restitution).
   double deformable_rebound = 0;
