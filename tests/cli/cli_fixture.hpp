@@ -2,6 +2,7 @@
 // Runs the rbaa program as a user would and captures its exit code, stdout and stderr.
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -65,6 +66,12 @@ class Cli : public ::testing::Test {
   std::string write_file(const std::string& name, const std::string& text) {
     std::ofstream(path(name)) << text;
     return path(name);
+  }
+
+  /// The report.json a verb wrote to `dir` (a folder in the test's folder, as given to path()).
+  nlohmann::json report(const std::string& dir) const {
+    std::ifstream in(path(dir + "/report.json"));
+    return nlohmann::json::parse(in);
   }
 
   static std::string slurp(const std::string& file) {

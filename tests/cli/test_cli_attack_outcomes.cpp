@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -51,10 +50,6 @@ const StopScene kStopScenes[] = {{15.0, 0.05}, {17.5, 0.05}, {12.5, 0.2}, {15.0,
 
 class CliAttackOutcomes : public Cli {
  protected:
-  nlohmann::json report(const std::string& dir) {
-    std::ifstream in(path(dir + "/report.json"));
-    return nlohmann::json::parse(in);
-  }
   /// The most Newton iterations any step of `rbaa simulate` needs (materials: "" = reference).
   int max_newton_iterations(const std::string& config, const std::string& materials, const std::string& dir) {
     const Result r = run("simulate --config=" + config + (materials.empty() ? "" : " --materials=" + materials) +

@@ -6,7 +6,6 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <fstream>
 #include <set>
 #include <string>
 #include <utility>
@@ -189,8 +188,7 @@ TEST_F(CliPaths, CubeConfigTouchesBothPlanes) {
   const Result r = run("simulate --config=" RBAA_SOURCE_DIR "/configs/cube.yaml "
                        "--set=mesh.target_tets=300 --progress=false --vtu_every=0 --out=" + path("cube"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(path("cube/report.json"));
-  const auto report = nlohmann::json::parse(in);
+  const auto report = Cli::report("cube");
   std::set<int> planes;
   for (const auto& b : report["bounces"]) {
     for (const auto& p : b["planes"]) planes.insert(p.get<int>());
@@ -211,8 +209,7 @@ TEST_F(CliPaths, ToleranceBelowRoundOffIsDetectedAndSaid) {
   const Result tight = run(star + "--set=newton.tolerance=1e-15 --out=" + path("tight"));
   ASSERT_EQ(tight.exit_code, 0) << tight.err;
   EXPECT_NE(tight.err.find("round-off floor"), std::string::npos) << tight.err;
-  std::ifstream in(path("tight/report.json"));
-  const auto newton = nlohmann::json::parse(in)["newton"];
+  const auto newton = report("tight")["newton"];
   EXPECT_GT(newton["steps_stopped_at_roundoff_floor"].get<int>(), 0);
   EXPECT_LT(newton["roundoff_floor_m_per_s"].get<double>(), 1e-9);
   for (const auto& it : newton["iterations_per_step"]) EXPECT_LT(it.get<int>(), 100);
@@ -220,8 +217,7 @@ TEST_F(CliPaths, ToleranceBelowRoundOffIsDetectedAndSaid) {
   const Result plain = run(star + "--out=" + path("plain"));
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_EQ(plain.err.find("round-off floor"), std::string::npos) << plain.err;
-  std::ifstream in2(path("plain/report.json"));
-  EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["steps_stopped_at_roundoff_floor"].get<int>(), 0);
+  EXPECT_EQ(report("plain")["newton"]["steps_stopped_at_roundoff_floor"].get<int>(), 0);
 }
 
 // report.json says where Newton's time went and what its solver did: the star (one body, so one
@@ -231,8 +227,7 @@ TEST_F(CliPaths, TheReportSplitsNewtonsWork) {
   const Result r = run("simulate --config=" RBAA_SOURCE_DIR "/configs/star.yaml --progress=false "
                        "--vtu_every=0 --out=" + path("split"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(path("split/report.json"));
-  const auto report = nlohmann::json::parse(in);
+  const auto report = Cli::report("split");
   const auto newton = report["newton"];
   EXPECT_EQ(newton["symbolic_analyses"].get<int>(), 1);
   EXPECT_GT(newton["line_search_probes"].get<int>(), 0);
@@ -253,12 +248,11 @@ TEST_F(CliPaths, TheReportSplitsNewtonsWork) {
 TEST_F(CliPaths, TheBallConvergesAtTightTolerances) {
   const std::string ball = "simulate --config=" RBAA_SOURCE_DIR "/configs/ball.yaml --progress=false --vtu_every=0 ";
   for (const char* tol : {"1e-10", "1e-12"}) {
-    const std::string out = path(std::string("ball_") + tol);
-    const Result r = run(ball + "--set=newton.tolerance=" + tol + " --out=" + out);
+    const std::string out = std::string("ball_") + tol;
+    const Result r = run(ball + "--set=newton.tolerance=" + tol + " --out=" + path(out));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err.find("round-off floor"), std::string::npos) << r.err;
-    std::ifstream in(out + "/report.json");
-    const auto newton = nlohmann::json::parse(in)["newton"];
+    const auto newton = report(out)["newton"];
     EXPECT_EQ(newton["steps_stopped_at_roundoff_floor"].get<int>(), 0) << tol;
     EXPECT_LE(newton["max_iterations_in_a_step"].get<int>(), 12) << tol;  // measured 8
   }
@@ -273,11 +267,10 @@ TEST_F(CliPaths, ACoarseStiffBallConvergesInItsContactStep) {
   const std::string ball = "simulate --config=" RBAA_SOURCE_DIR "/configs/ball.yaml --progress=false "
                            "--vtu_every=0 --set=mesh.target_tets=400 ";
   for (const char* Y : {"3e11", "1e13"}) {
-    const std::string out = path(std::string("ball400_") + Y);
-    const Result r = run(ball + "--set=reference_material.Y=" + Y + " --out=" + out);
+    const std::string out = std::string("ball400_") + Y;
+    const Result r = run(ball + "--set=reference_material.Y=" + Y + " --out=" + path(out));
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    std::ifstream in(out + "/report.json");
-    const auto newton = nlohmann::json::parse(in)["newton"];
+    const auto newton = report(out)["newton"];
     EXPECT_LE(newton["max_iterations_in_a_step"].get<int>(), 12) << Y;
     EXPECT_EQ(newton["steps_stopped_at_roundoff_floor"].get<int>(), 0) << Y;
   }
@@ -296,8 +289,7 @@ TEST_F(CliPaths, MeshObstacleSceneAttacksAndEvaluates) {
   const Result eval = run("evaluate " + scene + "--adversarial=" + path("att/adversarial.msh") +
                           " --time_step=0.0025 --duration=0.5 --out=" + path("eval"));
   ASSERT_EQ(eval.exit_code, 0) << eval.err;
-  std::ifstream in(path("eval/report.json"));
-  const auto report = nlohmann::json::parse(in);
+  const auto report = Cli::report("eval");
   EXPECT_TRUE(report["rigid_identical"].get<bool>());
   EXPECT_LT(report["baseline_disagreement"].get<double>(), 0.1);
 }

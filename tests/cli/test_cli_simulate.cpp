@@ -30,14 +30,19 @@ class CliSimulate : public Cli {
   std::string write_config(const std::string& name, const std::string& text) {
     return write_file(name, text);
   }
+  /// report.json without its timing, which differs between runs of the same thing.
+  nlohmann::json report_without_timing(const std::string& dir) const {
+    auto j = report(dir);
+    j.erase("timing");
+    return j;
+  }
 };
 
 TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
   const std::string config = write_config("ball.yaml", kTinyBall);
   const Result r = run("simulate --config=" + config + " --out=" + path("sim"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(path("sim/report.json"));
-  const auto report = nlohmann::json::parse(in);
+  const auto report = Cli::report("sim");
   EXPECT_EQ(report["newton"]["iterations_per_step"].size(), 5u);
   EXPECT_GT(report["kappa"].get<double>(), 0.0);
   std::ifstream csv(path("sim/trajectory.csv"));
@@ -48,16 +53,14 @@ TEST_F(CliSimulate, WritesTrajectoryVtuSeriesAndReport) {
   // --set overrides a config value from the command line.
   const Result shorter = run("simulate --config=" + config + " --set=time.duration=0.02 --out=" + path("sim2"));
   ASSERT_EQ(shorter.exit_code, 0) << shorter.err;
-  std::ifstream in2(path("sim2/report.json"));
-  EXPECT_EQ(nlohmann::json::parse(in2)["newton"]["iterations_per_step"].size(), 2u);
+  EXPECT_EQ(Cli::report("sim2")["newton"]["iterations_per_step"].size(), 2u);
   // Repeated --set flags all apply, in order (gflags alone would keep only the last): 0.02 s at
   // 0.005 s is four steps, and of two values for one key the later wins.
   const Result both = run("simulate --config=" + config +
                           " --set=time.duration=0.03 --set time.step=0.005 -set=time.duration=0.02"
                           " --vtu_every=0 --out=" + path("sim3"));
   ASSERT_EQ(both.exit_code, 0) << both.err;
-  std::ifstream in3(path("sim3/report.json"));
-  EXPECT_EQ(nlohmann::json::parse(in3)["newton"]["iterations_per_step"].size(), 4u);
+  EXPECT_EQ(Cli::report("sim3")["newton"]["iterations_per_step"].size(), 4u);
 }
 
 // Contact-resolving steps: report.json says what they did, and trajectory.csv keeps one row per
@@ -67,8 +70,7 @@ TEST_F(CliSimulate, ContactResolvingStepsReportTheirStepsAndKeepTheGrid) {
   const Result r = run("simulate --config=" + config + " --set=time.contact_substeps=8 --vtu_every=0 --out=" +
                        path("cr"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(path("cr/report.json"));
-  const auto report = nlohmann::json::parse(in);
+  const auto report = Cli::report("cr");
   ASSERT_TRUE(report.contains("contact_resolving")) << report.dump();
   const auto& c = report["contact_resolving"];
   EXPECT_EQ(c["substeps"].get<int>(), 8);
@@ -95,8 +97,7 @@ TEST_F(CliSimulate, ThreadSetupRespectsTheUsersEnvironment) {
     const std::string cmd = "env " + env + " " + std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
                             " --vtu_every=0 --progress=false --out=" + path(dir) + " 2>/dev/null";
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
-    std::ifstream in(path(dir + "/report.json"));
-    return nlohmann::json::parse(in)["timing"]["thread_setup"].get<std::string>();
+    return report(dir)["timing"]["thread_setup"].get<std::string>();
   };
   EXPECT_EQ(setup("-u OMP_DYNAMIC -u OPENBLAS_NUM_THREADS", "a"), "OpenMP dynamic teams, OpenBLAS on 1 thread");
   EXPECT_EQ(setup("-u OMP_DYNAMIC OPENBLAS_NUM_THREADS=2", "b"), "OpenMP dynamic teams");
@@ -126,8 +127,7 @@ TEST_F(CliSimulate, ACubePressedAndSlidingOnAMeshFloorEveryStepConverges) {
       "reference_material: {Y: 1.0e13, nu: 0.28, rho: 2500}\n");
   const Result r = run("simulate --config=" + config + " --vtu_every=0 --progress=false --out=" + path("press"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(path("press/report.json"));
-  const nlohmann::json report = nlohmann::json::parse(in);
+  const nlohmann::json report = Cli::report("press");
   EXPECT_EQ(report["steps"].get<int>(), 100);
   EXPECT_LE(report["newton"]["max_iterations_in_a_step"].get<int>(), 40);
   EXPECT_LT(report["min_contact_distance"].get<double>(), 1e-8);  // the regime it is about
@@ -151,8 +151,7 @@ TEST_F(CliSimulate, OpenblasOpenmpBuildFinishes) {
                           " timeout 120 " + std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
                           " --vtu_every=0 --progress=false --out=" + path("omp") + " 2>/dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  std::ifstream in(path("omp/report.json"));
-  EXPECT_EQ(nlohmann::json::parse(in)["timing"]["thread_setup"].get<std::string>(),
+  EXPECT_EQ(report("omp")["timing"]["thread_setup"].get<std::string>(),
             "OpenMP dynamic teams left off (OpenBLAS's OpenMP build waits for whole teams)");
   // Without OPENBLAS_NUM_THREADS rbaa puts OpenBLAS on 1 thread, which in this build is
   // omp_set_num_threads(1): said, and seen in timing.threads.
@@ -160,8 +159,7 @@ TEST_F(CliSimulate, OpenblasOpenmpBuildFinishes) {
                           " timeout 120 " + std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
                           " --vtu_every=0 --progress=false --out=" + path("omp1") + " 2>/dev/null";
   ASSERT_EQ(std::system(own.c_str()), 0) << own;
-  std::ifstream in1(path("omp1/report.json"));
-  const nlohmann::json timing = nlohmann::json::parse(in1)["timing"];
+  const nlohmann::json timing = report("omp1")["timing"];
   EXPECT_EQ(timing["thread_setup"].get<std::string>(),
             "OpenMP dynamic teams left off (OpenBLAS's OpenMP build waits for whole teams), OpenBLAS on 1 "
             "thread (its OpenMP build: rbaa's OpenMP loops too)");
@@ -171,8 +169,7 @@ TEST_F(CliSimulate, OpenblasOpenmpBuildFinishes) {
                           std::string(RBAA_EXECUTABLE) + " simulate --config=" + config +
                           " --vtu_every=0 --progress=false --out=" + path("omp2") + " 2>/dev/null";
   ASSERT_EQ(std::system(dyn.c_str()), 0) << dyn;
-  std::ifstream in2(path("omp2/report.json"));
-  EXPECT_NE(nlohmann::json::parse(in2)["timing"]["thread_setup"].get<std::string>().find(
+  EXPECT_NE(report("omp2")["timing"]["thread_setup"].get<std::string>().find(
                 "warning: OMP_DYNAMIC turns dynamic teams on"),
             std::string::npos);
 }
@@ -230,8 +227,7 @@ TEST_F(CliSimulate, CornerContactIsReportedWithItsPlanesAndNoRestitution) {
                    "time: {step: 0.01, duration: 0.2}\n");
   const Result r = run("simulate --config=" + config + " --vtu_every=0 --out=" + path("corner"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(path("corner/report.json"));
-  const auto report = nlohmann::json::parse(in);
+  const auto report = Cli::report("corner");
   ASSERT_FALSE(report["bounces"].empty());
   int corners = 0;
   for (const auto& b : report["bounces"]) {
@@ -266,13 +262,12 @@ TEST_F(CliSimulate, CornerContactIsReportedWithItsPlanesAndNoRestitution) {
 TEST_F(CliSimulate, ReportCountsFrictionReLags) {
   const std::string config = write_config("ball.yaml", kTinyBall);
   for (int k : {1, 3}) {
-    const std::string out = path("relag" + std::to_string(k));
+    const std::string out = "relag" + std::to_string(k);
     const Result r = run("simulate --config=" + config + " --set=contact.friction=0.5" +
                          " --set=contact.friction_iterations=" + std::to_string(k) +
-                         " --vtu_every=0 --out=" + out);
+                         " --vtu_every=0 --out=" + path(out));
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    std::ifstream in(out + "/report.json");
-    const auto newton = nlohmann::json::parse(in)["newton"];
+    const auto newton = report(out)["newton"];
     EXPECT_EQ(newton["friction_iterations"], k);
     if (k == 1) {
       EXPECT_EQ(newton["friction_relags"], 0);
@@ -337,12 +332,6 @@ TEST_F(CliSimulate, AttackKilledAndResumedEqualsUninterrupted) {
       "gravity: off\n"
       "time: {step: 0.01, duration: 0.06}\n"
       "attack: {iterations: 12}\n");
-  auto report_without_timing = [&](const std::string& dir) {
-    std::ifstream in(path(dir + "/report.json"));
-    auto j = nlohmann::json::parse(in);
-    j.erase("timing");
-    return j;
-  };
   ASSERT_EQ(run("attack --config=" + config + " --out=" + path("straight")).exit_code, 0);
   ASSERT_EQ(run("attack --config=" + config + " --out=" + path("again")).exit_code, 0);
   EXPECT_EQ(report_without_timing("straight"), report_without_timing("again"));
@@ -388,8 +377,7 @@ TEST_F(CliSimulate, AttackKilledAndResumedEqualsUninterrupted) {
                               " --resume --set=attack.polish_iterations=2");
   ASSERT_EQ(polished.exit_code, 0) << polished.err;
   {
-    std::ifstream in(path("killed/report.json"));
-    const auto j = nlohmann::json::parse(in);
+    const auto j = report("killed");
     EXPECT_EQ(j["iterations"].get<int>(), 12);
     EXPECT_EQ(j["polish"]["iterations"].get<int>(), 2);
     EXPECT_EQ(j["gap"]["continuous"], report_without_timing("straight")["gap"]["continuous"]);
@@ -426,12 +414,6 @@ TEST_F(CliSimulate, BestUniformAttackResumedEqualsUninterrupted) {
       "time: {step: 0.01, duration: 0.06}\n"
       "attack: {iterations: 6, learning_rate: 10, fields: [Y, nu, rho], start: best_uniform,\n"
       "         refinement_factor: 0, project_moments: false}\n");
-  auto report_without_timing = [&](const std::string& dir) {
-    std::ifstream in(path(dir + "/report.json"));
-    auto j = nlohmann::json::parse(in);
-    j.erase("timing");
-    return j;
-  };
   ASSERT_EQ(run("attack --config=" + config + " --out=" + path("bu_straight")).exit_code, 0);
   // Stopped after 3 iterations (a finished shorter run leaves the same checkpoint as a killed
   // one), then resumed to 6.
@@ -518,8 +500,7 @@ TEST_F(CliSimulate, AttackDesignsTheObjectAmongFurtherBodiesAndStudyRefusesThem)
   const Result a = run("attack --config=" + config + " --out=" + path("a") + " --iterations=2" +
                        " --set='objective={body: target, kind: target, component: x, value: 0}'");
   ASSERT_EQ(a.exit_code, 0) << a.err;
-  std::ifstream in(path("a/report.json"));
-  const auto report = nlohmann::json::parse(in);
+  const auto report = Cli::report("a");
   EXPECT_EQ(report["attacked_body"], "object");
   EXPECT_EQ(report["objective"]["kind"], "target");
   EXPECT_EQ(report["objective"]["body"], "target");
@@ -532,8 +513,7 @@ TEST_F(CliSimulate, AttackDesignsTheObjectAmongFurtherBodiesAndStudyRefusesThem)
   const Result object_only =
       run("simulate --config=" + config + " --vtu_every=0 --out=" + path("s"));
   ASSERT_EQ(object_only.exit_code, 0) << object_only.err;
-  std::ifstream sim_in(path("s/report.json"));
-  const auto sim = nlohmann::json::parse(sim_in);
+  const auto sim = Cli::report("s");
   EXPECT_LT(report["mesh"]["tets"].get<int>(), sim["mesh"]["tets"].get<int>())
       << sim["mesh"].dump();
 
@@ -553,8 +533,7 @@ TEST_F(CliSimulate, AttackDesignsTheObjectAmongFurtherBodiesAndStudyRefusesThem)
                        " --time_step=0.004 --duration=0.06 --soft_control=false --out=" + path("e"));
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.err.find("(the attacked body 'target')"), std::string::npos) << e.err;
-  std::ifstream ev_in(path("e/report.json"));
-  const auto ev = nlohmann::json::parse(ev_in);
+  const auto ev = Cli::report("e");
   EXPECT_EQ(ev["compared_body"], "target") << ev.dump();
   // Same surface and moments: the rigid twins agree.
   EXPECT_LT(ev["rigid_vs_rigid"]["max_com_gap_m"].get<double>(), 1e-9) << ev["rigid_vs_rigid"].dump();

@@ -65,9 +65,8 @@ int column(const std::vector<std::string>& header, const std::string& name) {
 
 class CliSweep : public Cli {
  protected:
-  nlohmann::json report(const std::string& out, int row) {
-    std::ifstream in(path(out + "/row-00" + std::to_string(row) + "/report.json"));
-    return nlohmann::json::parse(in);
+  nlohmann::json report(const std::string& out, int row) const {
+    return Cli::report(out + "/row-00" + std::to_string(row));
   }
 };
 
