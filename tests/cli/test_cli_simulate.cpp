@@ -17,6 +17,7 @@
 #include "rbaa/io/tet_mesh_file.hpp"
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
+#include "support/floor_obj.hpp"
 
 namespace {
 
@@ -112,7 +113,7 @@ TEST_F(CliSimulate, ThreadSetupRespectsTheUsersEnvironment) {
 // 100-iteration limit. With the separating-plane certificate every step converges (at most 27
 // iterations, in 0.6 s).
 TEST_F(CliSimulate, ACubePressedAndSlidingOnAMeshFloorEveryStepConverges) {
-  write_file("floor.obj", "v -5 -5 0\nv 5 -5 0\nv 5 5 0\nv -5 5 0\nf 1 2 3\nf 1 3 4\n");
+  write_file("floor.obj", rbaa::test::floor_obj(5));
   const std::string config = write_config(
       "press.yaml",
       "mesh: {shape: cube, target_tets: 300}\n"

@@ -24,6 +24,7 @@
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/scene/scene_world.hpp"
 #include "rbaa/scene/simulate.hpp"
+#include "support/floor_obj.hpp"
 #include "support/intersection_free.hpp"
 
 namespace rbaa {
@@ -35,8 +36,7 @@ std::string dir() { return ::testing::TempDir(); }
 // of two triangles in floor.obj. Y = 5e9 at h = 2.5 ms: the deformable rebound is 0.86 (measured;
 // 0.99 at 5 ms), well below the twin's default restitution 1.
 std::string ball_on_floor_yaml(bool mesh_floor, int contact_substeps = 0) {
-  std::ofstream(dir() + "/floor.obj")
-      << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+  std::ofstream(dir() + "/floor.obj") << test::floor_obj(1);
   return std::string(
              "mesh: {shape: sphere, radius: 0.1, target_tets: 400}\n"
              "object: {position: [0, 0, 0.13], velocity: [0.5, 0, -2.0]}\n") +

@@ -18,6 +18,7 @@
 #include "rbaa/scene/scene.hpp"
 #include "rbaa/scene/scene_mesh.hpp"
 #include "rbaa/scene/simulate.hpp"
+#include "support/floor_obj.hpp"
 
 namespace rbaa {
 namespace {
@@ -158,8 +159,7 @@ TEST(PlaneRestitution, AnImpactSlowerThanTenGravityStepsIsFitted) {
 // 0.6992). And each twin must then fly as its baseline: read from its own impact, a step after
 // the run's episode began, the mesh twin left 1.67 g h fast (the plane's -0.38 g h).
 std::string drop_yaml(bool mesh_floor) {
-  std::ofstream(dir() + "/floor.obj")
-      << "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\nf 1 2 3\nf 1 3 4\n";
+  std::ofstream(dir() + "/floor.obj") << test::floor_obj(2);
   return std::string(
              "mesh: {shape: sphere, radius: 0.05, target_tets: 300}\n"
              "object: {position: [0.3, 0, 0.12]}\n") +
