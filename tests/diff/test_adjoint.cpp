@@ -21,6 +21,7 @@
 #include "rbaa/diff/gradient_check.hpp"
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "rbaa/error.hpp"
+#include "sim/finite_differences.hpp"
 #include "support/intersection_free.hpp"
 
 namespace rbaa {
@@ -217,7 +218,7 @@ TEST(Adjoint, InitialStateAdjointMatchesFiniteDifferences) {
     return objective->evaluate(diff.forward(m, b.q0, b.v0 + s * d), m, nullptr);
   };
   const double s = 1e-3;  // m/s; the speeds are ~2 m/s
-  const double fd = (4.0 * (C(s / 2) - C(-s / 2)) / s - (C(s) - C(-s)) / (2 * s)) / 3.0;
+  const double fd = test::richardson_central_difference(C, s);
   const double ad = r.dv0.dot(d);
   std::printf("dC/dv0 . d: adjoint %.10e, finite difference %.10e\n", ad, fd);
   EXPECT_LE(std::abs(ad - fd), kBar * std::abs(fd));

@@ -19,6 +19,7 @@
 #include "rbaa/sim/mass_matrix.hpp"
 #include "rbaa/sim/simulator.hpp"
 #include "sim/driven_fixtures.hpp"
+#include "sim/finite_differences.hpp"
 #include "support/intersection_free.hpp"
 
 namespace rbaa {
@@ -218,11 +219,8 @@ TEST(DrivenGradient, TheInitialStateEntersADrivenBodyThroughItsDrive) {
   EXPECT_EQ(C(s.scene.q0, s.scene.v0 + d), c0);
 
   // q0: central differences (Richardson-extrapolated) against the adjoint and the tangent.
-  auto fd = [&](double e) {
-    return (C(s.scene.q0 + e * d, s.scene.v0) - C(s.scene.q0 - e * d, s.scene.v0)) / (2 * e);
-  };
-  const double e = 1e-6;
-  const double central = (4 * fd(e / 2) - fd(e)) / 3;
+  auto along = [&](double e) { return C(s.scene.q0 + e * d, s.scene.v0); };
+  const double central = test::richardson_central_difference(along, 1e-6);
   TangentDirection direction;
   direction.q0 = d;
   const TangentResult tl = tangent_linear(run.f.simulator(), materials, t, run.seed, {direction});

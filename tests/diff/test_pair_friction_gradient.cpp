@@ -23,6 +23,7 @@
 #include "rbaa/diff/trajectory_objective.hpp"
 #include "rbaa/sim/contact_pair.hpp"
 #include "sim/body_fixtures.hpp"
+#include "sim/finite_differences.hpp"
 #include "sim/obstacle_fixtures.hpp"
 #include "support/intersection_free.hpp"
 
@@ -309,7 +310,7 @@ void expect_initial_state_gradient(const test::ThrownBall& b, const char* label,
             (velocity ? run.run(b.q0, b.v0 + s * d) : run.run(b.q0 + s * d, b.v0)).q.back());
       };
       const double s = velocity ? 3e-5 : 1e-6;
-      const double fd = (4.0 * (C(s / 2) - C(-s / 2)) / s - (C(s) - C(-s)) / (2 * s)) / 3.0;
+      const double fd = test::richardson_central_difference(C, s);
       const double ad = (velocity ? r.dv0 : r.dq0).dot(d);
       const double error = std::abs(ad - fd) / std::max(std::abs(ad), std::abs(fd));
       std::printf("%s, dC/d%s . d: adjoint %.10e, finite differences %.10e, relative error %.2e\n",

@@ -1,5 +1,6 @@
 #pragma once
-// Central finite differences for the forms' derivative tests.
+// Central finite differences for the forms' derivative tests, and the Richardson-extrapolated one
+// that the adjoint tests take of whole runs.
 
 #include <Eigen/Core>
 
@@ -68,6 +69,14 @@ inline Eigen::MatrixXd fd_jacobian5(
     J.col(i) = col;
   }
   return J;
+}
+
+/// f'(0) from central differences at s and s / 2, Richardson-extrapolated:
+///   (4 D(s / 2) - D(s)) / 3,  D(h) = (f(h) - f(-h)) / (2 h),
+/// whose error is O(s^4) where D's is O(s^2); f is typically a run's objective along a direction.
+inline double richardson_central_difference(const std::function<double(double)>& f, double s) {
+  auto D = [&](double h) { return (f(h) - f(-h)) / (2 * h); };
+  return (4 * D(s / 2) - D(s)) / 3;
 }
 
 /// |a - b| / |b| (Frobenius).
