@@ -248,23 +248,15 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
   r["kappa_source"] = run.kappa_from_rule ? "energy rule (SPEC 2)" : "config";
   r["d_hat"] = run.settings.d_hat;
   std::vector<int> iterations;
-  int total = 0, max_it = 0, exact = 0, floor_limited = 0, relags = 0, probes = 0, analyses = 0;
-  double seconds[5] = {0, 0, 0, 0, 0};
+  StepStats sum;  // the run's counts and seconds
+  int max_it = 0, exact = 0, floor_limited = 0;
   double floor_velocity = 0;
   double dmin = std::numeric_limits<double>::infinity();
   for (const StepStats& s : t.steps) {
     iterations.push_back(s.newton_iterations);
-    total += s.newton_iterations;
+    sum += s;
     max_it = std::max(max_it, s.newton_iterations);
     exact += s.exact_factor ? 1 : 0;
-    relags += s.friction_relags;
-    probes += s.line_search_probes;
-    analyses += s.symbolic_analyses;
-    seconds[0] += s.gradient_seconds;
-    seconds[1] += s.assembly_seconds;
-    seconds[2] += s.factorization_seconds;
-    seconds[3] += s.solve_seconds;
-    seconds[4] += s.line_search_seconds;
     if (s.roundoff_limited) {
       ++floor_limited;
       floor_velocity = std::max(floor_velocity, s.floor_velocity);
@@ -277,20 +269,20 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                  {"tolerance_m_per_s", run.settings.newton_tolerance * bounding_box_diagonal(run.mesh)},
                  {"max_iterations", run.settings.newton_max_iterations},
                  {"iterations_per_step", iterations},
-                 {"total_iterations", total},
+                 {"total_iterations", sum.newton_iterations},
                  {"max_iterations_in_a_step", max_it},
                  {"steps_ending_with_exact_factor", exact},
                  {"steps_stopped_at_roundoff_floor", floor_limited},
                  {"roundoff_floor_m_per_s", floor_velocity},
                  {"friction_iterations", run.settings.friction_iterations},
-                 {"friction_relags", relags},
-                 {"line_search_probes", probes},
-                 {"symbolic_analyses", analyses},
-                 {"seconds", {{"gradients", seconds[0]},
-                              {"assembly", seconds[1]},
-                              {"factorisations", seconds[2]},
-                              {"solves", seconds[3]},
-                              {"line_search", seconds[4]}}}};
+                 {"friction_relags", sum.friction_relags},
+                 {"line_search_probes", sum.line_search_probes},
+                 {"symbolic_analyses", sum.symbolic_analyses},
+                 {"seconds", {{"gradients", sum.gradient_seconds},
+                              {"assembly", sum.assembly_seconds},
+                              {"factorisations", sum.factorization_seconds},
+                              {"solves", sum.solve_seconds},
+                              {"line_search", sum.line_search_seconds}}}};
   r["min_contact_distance"] = std::isfinite(dmin) ? nlohmann::json(dmin) : nlohmann::json(nullptr);
   nlohmann::json bounces = nlohmann::json::array();
   // One entry per contact episode; only a one-plane contact whose normal velocity reversed has a
@@ -315,12 +307,11 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                 {"velocity", vec3(last.com_velocity)},
                 {"orientation_wxyz",
                  {last.orientation.w(), last.orientation.x(), last.orientation.y(), last.orientation.z()}}};
-  double step_sum = 0;
-  for (const StepStats& s : t.steps) step_sum += s.seconds;
   r["timing"] = {{"setup_s", run.setup_seconds},
                  {"simulate_s", run.simulate_seconds},
-                 {"per_step_s", t.num_steps() ? step_sum / t.num_steps() : 0.0},
-                 {"per_iteration_s", total ? step_sum / total : 0.0},
+                 {"per_step_s", t.num_steps() ? sum.seconds / t.num_steps() : 0.0},
+                 {"per_iteration_s",
+                  sum.newton_iterations ? sum.seconds / sum.newton_iterations : 0.0},
                  {"threads", simulation_threads()}, {"thread_setup", thread_setup()}};
   write_file_atomically((fs::path(dir) / "report.json").string(),
                         [&](std::ostream& os) { os << r.dump(2) << "\n"; });

@@ -466,21 +466,8 @@ StepStats Simulator::advance() {
   ++step_;
 
   StepStats s;
-  s.newton_iterations = r.iterations;
-  s.exact_factor = r.exact_factor;
-  s.roundoff_limited = r.roundoff_limited;
-  s.floor_velocity = r.floor_velocity;
-  s.projected_fallbacks = r.projected_fallbacks;
-  s.extrapolations = r.extrapolations;
-  s.chord_steps = r.chord_steps;
-  s.line_search_probes = r.line_search_probes;
-  s.symbolic_analyses = r.symbolic_analyses;
+  s.add(r);
   s.friction_relags = relags;
-  s.gradient_seconds = r.gradient_seconds;
-  s.assembly_seconds = r.assembly_seconds;
-  s.factorization_seconds = r.factorization_seconds;
-  s.solve_seconds = r.solve_seconds;
-  s.line_search_seconds = r.line_search_seconds;
   s.min_distance = contact_->min_distance(x);
   if (mesh_contact_) s.min_distance = std::min(s.min_distance, mesh_contact_->min_distance(x));
   if (body_contact_) s.min_distance = std::min(s.min_distance, body_contact_->min_distance(x));

@@ -11,6 +11,10 @@
 
 namespace rbaa {
 
+struct NewtonResult;
+
+/// One step's solver statistics. A counter of Newton's is a NewtonResult field (summed over a
+/// step's solves by NewtonResult::append), a field here, and a line in add() and operator+=.
 struct StepStats {
   int newton_iterations = 0;     ///< Hessians factorised (incl. the final convergence check)
   bool exact_factor = false;     ///< the last factor is of the exact Hessian at the returned q
@@ -36,6 +40,13 @@ struct StepStats {
   // line search.
   double gradient_seconds = 0, assembly_seconds = 0, factorization_seconds = 0,
          solve_seconds = 0, line_search_seconds = 0;
+
+  /// Adds a Newton solve of this step: its counts and seconds add up; what describes the
+  /// returned iterate (exact_factor, roundoff_limited, floor_velocity) is the solve's.
+  void add(const NewtonResult& solve);
+  /// Adds the counts and seconds (friction_relags and the step's own seconds too) of `other`:
+  /// a run's totals over its steps. What describes one step's end is left as it is.
+  StepStats& operator+=(const StepStats& other);
 };
 
 /// What contact-resolving steps did in a run (SimulationSettings::contact_substeps).
