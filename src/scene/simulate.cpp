@@ -278,6 +278,7 @@ void write_simulation_outputs(const SimulationRun& run, const Scene& scene, cons
                  {"friction_relags", sum.friction_relags},
                  {"line_search_probes", sum.line_search_probes},
                  {"symbolic_analyses", sum.symbolic_analyses},
+                 {"ccd_caps", sum.ccd_caps},
                  {"seconds", {{"gradients", sum.gradient_seconds},
                               {"assembly", sum.assembly_seconds},
                               {"factorisations", sum.factorization_seconds},

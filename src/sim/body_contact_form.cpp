@@ -205,11 +205,12 @@ double BodyContactForm::ccd(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1
   double t = 1.0;
   for (const BodyPair& p : candidates(q0, q1, inflation)) {
     const ContactPairPoints P0 = pair_points(*this, p, q0), P1 = pair_points(*this, p, q1);
-    const auto step = p.kind == BodyPairKind::kVertexTriangle
-                          ? contact::point_triangle_max_step_size
-                          : contact::edge_edge_max_step_size;
-    t = std::min(
-        t, step(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0], P1.x[1], P1.x[2], P1.x[3], settings));
+    const auto ccd = p.kind == BodyPairKind::kVertexTriangle ? contact::point_triangle_ccd
+                                                             : contact::edge_edge_ccd;
+    const contact::CcdResult r =
+        ccd(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0], P1.x[1], P1.x[2], P1.x[3], settings);
+    t = std::min(t, r.toi);
+    if (!r.converged) ++ccd_caps_;
   }
   return t;
 }

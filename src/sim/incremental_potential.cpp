@@ -121,6 +121,12 @@ bool IncrementalPotential::is_step_valid(const Eigen::VectorXd& q0,
   return true;
 }
 
+long IncrementalPotential::ccd_caps() const {
+  long n = 0;
+  for (const Term& t : terms_) n += t.form->ccd_caps();
+  return n;
+}
+
 void IncrementalPotential::solution_changed(const Eigen::VectorXd& q) {
   for (const Term& t : terms_) {
     const ScopeTimer timer(t.seconds);

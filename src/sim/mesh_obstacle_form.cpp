@@ -194,29 +194,32 @@ double MeshObstacleForm::ccd(const Eigen::VectorXd& q0, const Eigen::VectorXd& q
   const contact::StaticMeshCandidates c =
       broad_.query(V0, V1, body_vertices_, body_F_, body_E_, inflation);
   double t = 1.0;
+  const auto take = [&](const contact::CcdResult& r) {
+    t = std::min(t, r.toi);
+    if (!r.converged) ++ccd_caps_;
+  };
   for (const auto& [body, obstacle] : c.vertex_triangle) {
     const ContactPairPoints P0 =
         pair_points(*this, {ObstaclePairKind::kVertexTriangle, body, obstacle, 0}, q0);
     const Eigen::Vector3d p1 = at(q1, body);
-    t = std::min(t, contact::point_triangle_max_step_size(P0.x[0], P0.x[1], P0.x[2], P0.x[3], p1,
-                                                          P0.x[1], P0.x[2], P0.x[3], settings));
+    take(contact::point_triangle_ccd(P0.x[0], P0.x[1], P0.x[2], P0.x[3], p1, P0.x[1], P0.x[2],
+                                     P0.x[3], settings));
   }
   for (const auto& [body, obstacle] : c.triangle_vertex) {
     const ContactPairPoints P0 =
         pair_points(*this, {ObstaclePairKind::kTriangleVertex, body, obstacle, 0}, q0);
     const ContactPairPoints P1 =
         pair_points(*this, {ObstaclePairKind::kTriangleVertex, body, obstacle, 0}, q1);
-    t = std::min(t,
-                 contact::point_triangle_max_step_size(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0],
-                                                       P1.x[1], P1.x[2], P1.x[3], settings));
+    take(contact::point_triangle_ccd(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0], P1.x[1], P1.x[2],
+                                     P1.x[3], settings));
   }
   for (const auto& [body, obstacle] : c.edge_edge) {
     const ContactPairPoints P0 =
         pair_points(*this, {ObstaclePairKind::kEdgeEdge, body, obstacle, 0}, q0);
     const ContactPairPoints P1 =
         pair_points(*this, {ObstaclePairKind::kEdgeEdge, body, obstacle, 0}, q1);
-    t = std::min(t, contact::edge_edge_max_step_size(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0],
-                                                     P1.x[1], P1.x[2], P1.x[3], settings));
+    take(contact::edge_edge_ccd(P0.x[0], P0.x[1], P0.x[2], P0.x[3], P1.x[0], P1.x[1], P1.x[2],
+                                P1.x[3], settings));
   }
   return t;
 }

@@ -14,6 +14,7 @@ void StepStats::add(const NewtonResult& solve) {
   chord_steps += solve.chord_steps;
   line_search_probes += solve.line_search_probes;
   symbolic_analyses += solve.symbolic_analyses;
+  ccd_caps += solve.ccd_caps;
   gradient_seconds += solve.gradient_seconds;
   assembly_seconds += solve.assembly_seconds;
   factorization_seconds += solve.factorization_seconds;
@@ -28,6 +29,7 @@ StepStats& StepStats::operator+=(const StepStats& other) {
   chord_steps += other.chord_steps;
   line_search_probes += other.line_search_probes;
   symbolic_analyses += other.symbolic_analyses;
+  ccd_caps += other.ccd_caps;
   friction_relags += other.friction_relags;
   seconds += other.seconds;
   gradient_seconds += other.gradient_seconds;

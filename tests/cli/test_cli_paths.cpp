@@ -231,6 +231,7 @@ TEST_F(CliPaths, TheReportSplitsNewtonsWork) {
   const auto newton = report["newton"];
   EXPECT_EQ(newton["symbolic_analyses"].get<int>(), 1);
   EXPECT_GT(newton["line_search_probes"].get<int>(), 0);
+  EXPECT_EQ(newton["ccd_caps"].get<long>(), 0);  // planes only: no iterative CCD
   double sum = 0;
   for (const char* phase : {"gradients", "assembly", "factorisations", "solves", "line_search"}) {
     const double seconds = newton["seconds"][phase].get<double>();

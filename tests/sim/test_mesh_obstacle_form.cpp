@@ -162,6 +162,44 @@ TEST(MeshObstacleForm, CcdKeepsEveryStepApart) {
   }
 }
 
+// A block's bottom edge sliding along an obstacle edge parallel to it, 1e-8 m apart, by its own
+// width in one step: no plane certificate holds for parallel edges (contact/additive_ccd.hpp) and
+// the additive iteration would need ~L / (0.9 d0) = 1.1e6 iterations, so the 1e5 cap stops it.
+// The answer stays safe but short; the form counts each such search (Form::ccd_caps), which
+// Newton and `rbaa simulate`'s report pass on. The block's vertices over the triangle are
+// certified (their plane is the triangle's) and counted nowhere.
+TEST(MeshObstacleForm, CcdSearchesStoppedByTheIterationCapAreCounted) {
+  const double gap = 1e-8;
+  const TetMesh mesh = test::box_mesh(1, 1, 1, 0.01, Eigen::Vector3d(0.0, 0.0, gap));
+  const ObstacleMesh tri = test::obstacle_mesh(
+      {Eigen::Vector3d(-0.1, 0.0, 0.0), Eigen::Vector3d(0.1, 0.0, 0.0), Eigen::Vector3d(0.0, -0.1, 0.0)},
+      {{0, 1, 2}}, "triangle");
+  const MeshObstacleForm form(mesh, {tri}, kDHat, 3.0);
+  const Eigen::VectorXd q0 = test::positions(mesh);
+  EXPECT_EQ(form.ccd_caps(), 0);
+  // A step straight up: nothing approaches, nothing capped.
+  Eigen::VectorXd up = q0;
+  for (Eigen::Index v = 0; v < q0.size() / 3; ++v) up[3 * v + 2] += 0.002;
+  EXPECT_EQ(form.max_step_size(q0, up), 1.0);
+  EXPECT_TRUE(form.is_step_valid(q0, up));
+  EXPECT_EQ(form.ccd_caps(), 0);
+  // The slide along x.
+  Eigen::VectorXd slide = q0;
+  for (Eigen::Index v = 0; v < q0.size() / 3; ++v) slide[3 * v] += 0.01;
+  const double t = form.max_step_size(q0, slide);
+  const long after_max_step = form.ccd_caps();
+  std::printf("slide 0.01 m at %.0e m: step fraction %.4f, %ld capped searches\n", gap, t,
+              after_max_step);
+  EXPECT_GE(after_max_step, 1);
+  EXPECT_GT(t, 0.0);
+  EXPECT_LT(t, 0.5);  // ~1e5 x 0.9 gap / 0.01 = 0.09: the cap, not the geometry, stopped it
+  EXPECT_FALSE(form.clearance(q0 + t * (slide - q0), 1.0).intersecting);
+  // is_step_valid searches only pairs whose swept boxes meet without inflation: the edges' boxes
+  // stay 1e-8 m apart in z, so the slide is valid and nothing more is capped.
+  EXPECT_TRUE(form.is_step_valid(q0, slide));
+  EXPECT_EQ(form.ccd_caps(), after_max_step);
+}
+
 TEST(MeshObstacleForm, ClearanceFindsCrossingsAndContainment) {
   const TetMesh mesh = test::box_mesh(1, 1, 1, 0.1);
   const Eigen::VectorXd q = test::positions(mesh);

@@ -75,6 +75,7 @@ class BodyContactForm : public Form {
   /// Every pair within d_hat at q1 at a positive distance, and no pair closing below 1e-3 of its
   /// gap along the straight segment q0 -> q1 (as MeshObstacleForm::is_step_valid).
   bool is_step_valid(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const override;
+  long ccd_caps() const override { return ccd_caps_; }
   void solution_changed(const Eigen::VectorXd& q) override { active(q); }
 
   /// Pairs closer than d_hat at q, sorted by (kind, a, b).
@@ -137,6 +138,7 @@ class BodyContactForm : public Form {
   double kappa_;
   mutable Cache cache_[2];
   mutable int next_slot_ = 0;
+  mutable long ccd_caps_ = 0;  ///< see Form::ccd_caps
 };
 
 }  // namespace rbaa

@@ -48,6 +48,10 @@ class Form {
   virtual bool is_step_valid(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const {
     return true;
   }
+  /// How many CCD searches of max_step_size and is_step_valid the iteration cap stopped since
+  /// construction (contact/additive_ccd.hpp). Each such answer stays safe, only shorter than it
+  /// need be: max_step_size then shortens the step, is_step_valid refuses it.
+  virtual long ccd_caps() const { return 0; }
   /// Called by the solver whenever its iterate changes (contact forms rebuild their pair set).
   virtual void solution_changed(const Eigen::VectorXd& q) {}
 

@@ -40,6 +40,8 @@ class IncrementalPotential {
   const Eigen::SparseMatrix<double>& hessian(const Eigen::VectorXd& q, HessianKind kind);
   double max_step_size(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const;
   bool is_step_valid(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const;
+  /// The forms' CCD searches stopped by their iteration cap so far (Form::ccd_caps).
+  long ccd_caps() const;
   void solution_changed(const Eigen::VectorXd& q);
 
   /// The forms' history hooks (form.hpp), each term with its weight as scale.

@@ -76,6 +76,7 @@ class MeshObstacleForm : public Form {
   /// gap along the straight segment q0 -> q1 (CCD again: the trial a line search tries need not
   /// lie on the segment max_step_size was asked about, and a triangle can be tunnelled through).
   bool is_step_valid(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const override;
+  long ccd_caps() const override { return ccd_caps_; }
   void solution_changed(const Eigen::VectorXd& q) override { active(q); }
 
   /// Pairs closer than d_hat at q, sorted by (kind, body, obstacle).
@@ -131,6 +132,7 @@ class MeshObstacleForm : public Form {
   double kappa_;
   mutable Cache cache_[2];
   mutable int next_slot_ = 0;
+  mutable long ccd_caps_ = 0;  ///< see Form::ccd_caps
 };
 
 }  // namespace rbaa

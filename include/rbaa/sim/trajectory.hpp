@@ -27,6 +27,7 @@ struct StepStats {
   int chord_steps = 0;           ///< chord steps on the previous step's factor (0 or 1)
   int line_search_probes = 0;    ///< energies of Newton's line minimisation (newton_solver.cpp)
   int symbolic_analyses = 0;     ///< CHOLMOD symbolic analyses: the Hessian's pattern changed
+  long ccd_caps = 0;             ///< CCD searches stopped by their iteration cap (Form::ccd_caps)
   /// Friction re-lagged from the step's solution and solved again (friction_iterations > 1);
   /// newton_iterations includes those solves' iterations
   int friction_relags = 0;
