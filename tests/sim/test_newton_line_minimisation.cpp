@@ -5,10 +5,17 @@
 // lowers the energy lands across the valley, and plain backtracking crossed it back and forth (the
 // cube stack's striker at the paper's 10164 tets a cube: 100 iterations at 1/512 of each step).
 // Minimising along the step lands near the valley's floor.
+// The later tests run the search (Brent's: parabolas, golden-section steps, a minimum step, the
+// stop on a foretold gain or a narrow bracket) on given functions along the step.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <utility>
+#include <vector>
 
 #include "rbaa/error.hpp"
 #include "rbaa/sim/form.hpp"
@@ -167,6 +174,137 @@ TEST(NewtonLineMinimisation, AQuadraticAlongTheStepTakesOneProbe) {
   EXPECT_LE((x - target).norm(), 1e-12 * target.norm());
   EXPECT_EQ(r.line_search_halvings, 1);  // one search: the next step is zero
   EXPECT_EQ(r.line_search_probes, 1);
+}
+
+// The search on given functions along the step. E(q) = phi(q_0) + |q_1..11|^2 / 2 from q = 0, with
+// a Hessian that reads -phi'(0) in q_0: the Newton step moves q_0 alone, by 1, so the fraction a of
+// the step is q_0 = a and the energy along it is phi(a) - phi(0). The form records every fraction
+// the line search asks about; max_fraction stands for CCD's bound (the first fraction tried).
+class AlongStepForm : public Form {
+ public:
+  AlongStepForm(std::function<double(double)> phi, std::function<double(double)> slope,
+                double max_fraction, std::vector<std::pair<double, double>>& asked)
+      : phi_(std::move(phi)),
+        slope_(std::move(slope)),
+        max_fraction_(max_fraction),
+        asked_(asked) {}
+  const char* name() const override { return "along the step"; }
+  double value(const Eigen::VectorXd& q) const override {
+    return phi_(q[0]) + 0.5 * q.tail(q.size() - 1).squaredNorm();
+  }
+  double value_difference(const Eigen::VectorXd& q0, const Eigen::VectorXd& q1) const override {
+    const double d = value(q1) - value(q0);
+    asked_.emplace_back(q1[0], d);
+    return d;
+  }
+  void add_gradient(const Eigen::VectorXd& q, double scale, Eigen::VectorXd& grad) const override {
+    grad.tail(q.size() - 1) += scale * q.tail(q.size() - 1);
+    grad[0] += scale * slope_(q[0]);
+  }
+  void add_hessian(const Eigen::VectorXd& q, double scale, HessianKind,
+                   SparseHessian& H) const override {
+    for (int v = 0; v < q.size() / 3; ++v) H.vertex_block(v) += scale * Eigen::Matrix3d::Identity();
+    H.vertex_block(0)(0, 0) += scale * (-slope_(0) - 1);
+  }
+  double max_step_size(const Eigen::VectorXd&, const Eigen::VectorXd&) const override {
+    return max_fraction_;
+  }
+
+ private:
+  std::function<double(double)> phi_, slope_;
+  double max_fraction_;
+  std::vector<std::pair<double, double>>& asked_;
+};
+
+// One Newton iteration along phi: the fractions and energies the backtracking tried (the last
+// one lowers the energy: alpha), the line minimisation's probes, and the fraction taken.
+struct LineSearch {
+  std::vector<std::pair<double, double>> backtracking, probes;
+  double taken = 0;
+  double alpha() const { return backtracking.back().first; }
+};
+
+LineSearch search_along(std::function<double(double)> phi, std::function<double(double)> slope,
+                        double max_fraction = 1.0) {
+  const Tets T = (Tets(1, 4) << 0, 1, 2, 3).finished();
+  SparseHessian hessian(T, 4);
+  std::vector<std::pair<double, double>> asked;
+  AlongStepForm form(std::move(phi), std::move(slope), max_fraction, asked);
+  IncrementalPotential E(hessian);
+  E.add(form, 1.0);
+  NewtonSettings settings = unit_step_settings();
+  settings.max_iterations = 1;
+  NewtonSolver newton(settings);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(12);
+  EXPECT_THROW(newton.minimize(E, x, "along the step"), SolverError);
+  LineSearch s;
+  std::size_t k = 0;
+  while (k < asked.size() && !(asked[k].second <= 0)) s.backtracking.push_back(asked[k++]);
+  if (k < asked.size()) s.backtracking.push_back(asked[k++]);
+  s.probes.assign(asked.begin() + k, asked.end());
+  s.taken = x[0];
+  EXPECT_LE(x.tail(11).lpNorm<Eigen::Infinity>(), 0.0);
+  return s;
+}
+
+// newton_solver.cpp's kLineTolerance: the search ends once its bracket is this narrow relative to
+// the best fraction, and no probe comes nearer than a quarter of that to a point already known.
+constexpr double kLineTolerance = 1e-2;
+constexpr double kGolden = 0.3819660112501051;  // (3 - sqrt 5) / 2
+
+// Brent's bracket, replayed from the probes: it starts as [0, 2 alpha] around alpha; the best
+// point so far lies inside, every other point known lies on or outside it (so the bracket runs
+// from the nearest known point below the best to the nearest above). Each probe lies strictly
+// inside the bracket and at least the minimum step, kLineTolerance / 4 of the best fraction, from
+// every known point (Brent's minimum step); the fraction taken is the lowest energy found.
+void expect_brent_invariants(const LineSearch& s) {
+  const double alpha = s.alpha();
+  std::vector<double> known = {0.0, 2 * alpha, alpha};
+  double best = alpha, f_best = s.backtracking.back().second;
+  for (std::size_t k = 0; k < s.probes.size(); ++k) {
+    const auto [a, phi] = s.probes[k];
+    double lo = 0, hi = 2 * alpha, nearest = std::numeric_limits<double>::infinity();
+    for (double p : known) {
+      if (p < best) lo = std::max(lo, p);
+      if (p > best) hi = std::min(hi, p);
+      nearest = std::min(nearest, std::abs(a - p));
+    }
+    EXPECT_GT(a, lo) << "probe " << k;
+    EXPECT_LT(a, hi) << "probe " << k;
+    EXPECT_GE(nearest, (1 - 1e-12) * 0.25 * kLineTolerance * best)
+        << "probe " << k << " at " << a << ", best " << best << " (bracket " << lo << " .. " << hi
+        << ")";
+    known.push_back(a);
+    if (phi < f_best) {
+      best = a;
+      f_best = phi;
+    }
+  }
+  EXPECT_EQ(s.taken, best);
+}
+
+// Linear up to c, quadratic (s - m)^2 / 2 beyond (continuous slope): the step's full length raises
+// the energy, its half lowers it. The first probe, the parabola through 0, 1/2 and 1, misses the
+// minimum (0 lies on the linear stretch) and lands past c, lowering the energy by other than its
+// parabola foretold; then the three best points (that probe, 1/2 and 1) lie where the energy is
+// quadratic, so the next parabolic probe is the minimum itself, and the gain it finds is the one
+// its parabola foretold, which ends the search: two probes. A parabola foretold wrongly (a term of
+// Lagrange's form in x3 or f3, which vanish where the third point is 0 with value 0 as in the first
+// probe) takes two more.
+TEST(NewtonLineMinimisation, AQuadraticPastALinearStretchEndsAtItsMinimum) {
+  const double c = 0.25, m = 0.45;
+  const auto phi = [=](double s) {
+    return s >= c ? 0.5 * (s - m) * (s - m) : 0.5 * (c - m) * (c - m) + (c - m) * (s - c);
+  };
+  const auto slope = [=](double s) { return s >= c ? s - m : c - m; };
+  const LineSearch s = search_along(phi, slope);
+  ASSERT_EQ(s.backtracking.size(), 2u);  // 1 raises the energy, 1/2 lowers it
+  ASSERT_EQ(s.probes.size(), 2u);
+  EXPECT_GT(s.probes[0].first, c);
+  EXPECT_GT(std::abs(s.probes[0].first - m), 0.01);
+  EXPECT_NEAR(s.probes[1].first, m, 1e-12);
+  EXPECT_NEAR(s.taken, m, 1e-12);
+  expect_brent_invariants(s);
 }
 
 }  // namespace
