@@ -307,5 +307,22 @@ TEST(NewtonLineMinimisation, AQuadraticPastALinearStretchEndsAtItsMinimum) {
   expect_brent_invariants(s);
 }
 
+// A quartic (s - m)^4: no parabola through three of its points is its own, so the search narrows
+// the bracket to kLineTolerance of the best fraction, which then holds the minimum; on the way the
+// parabola's vertex falls within twice the minimum step of the bracket's lower end (0.68 of one
+// step from it), and the probe goes the minimum step from the best point instead. Moving the probe
+// to the vertex (the end test read from 0 rather than the bracket's end, or the test made on the
+// point mirrored about the best one) or dropping the minimum step (tol of the wrong sign) probes
+// within the minimum step of a known point.
+TEST(NewtonLineMinimisation, AQuarticsProbesKeepTheMinimumStepApart) {
+  const double m = 0.4635;
+  const LineSearch s = search_along([=](double x) { return std::pow(x - m, 4); },
+                                    [=](double x) { return 4 * std::pow(x - m, 3); });
+  ASSERT_EQ(s.backtracking.size(), 2u);
+  EXPECT_GE(s.probes.size(), 2u);
+  expect_brent_invariants(s);
+  EXPECT_LE(std::abs(s.taken - m), kLineTolerance * s.taken);
+}
+
 }  // namespace
 }  // namespace rbaa
