@@ -283,6 +283,25 @@ void expect_brent_invariants(const LineSearch& s) {
   EXPECT_EQ(s.taken, best);
 }
 
+// A continuous piecewise-linear function through the knots (x_i, y_i), x increasing: a valley
+// with kinks. The slope at a knot is the next segment's.
+struct PiecewiseLinear {
+  std::vector<double> x, y;
+  std::size_t segment(double s) const {
+    std::size_t i = 0;
+    while (i + 2 < x.size() && s >= x[i + 1]) ++i;
+    return i;
+  }
+  double slope(double s) const {
+    const std::size_t i = segment(s);
+    return (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
+  }
+  double operator()(double s) const {
+    const std::size_t i = segment(s);
+    return s == x[i] ? y[i] : y[i] + (s - x[i]) * slope(s);
+  }
+};
+
 // Linear up to c, quadratic (s - m)^2 / 2 beyond (continuous slope): the step's full length raises
 // the energy, its half lowers it. The first probe, the parabola through 0, 1/2 and 1, misses the
 // minimum (0 lies on the linear stretch) and lands past c, lowering the energy by other than its
@@ -322,6 +341,38 @@ TEST(NewtonLineMinimisation, AQuarticsProbesKeepTheMinimumStepApart) {
   EXPECT_GE(s.probes.size(), 2u);
   expect_brent_invariants(s);
   EXPECT_LE(std::abs(s.taken - m), kLineTolerance * s.taken);
+}
+
+// An asymmetric valley, steep on the near side and flattening on the far one (its far branch
+// concave, slopes 22.5 then 3.6), its floor at 1/4: the first probe (the parabola through 0, 1/2
+// and 1) lands on the far branch, on the line through 1/2 and 1; the three best points are
+// collinear, so the next probe is a golden-section step into the larger side, which lands on the
+// near branch. The parabola through the three best points is then concave: its vertex, a maximum,
+// lies beyond the bracket, and the search takes a golden-section step into the larger side again,
+// not the minimum step towards the middle (as it would if vertices beyond the bracket's upper end
+// were admitted).
+TEST(NewtonLineMinimisation, AParabolaBeyondTheBracketGivesWayToAGoldenStep) {
+  const PiecewiseLinear valley{{0, 0.25, 0.45, 1}, {0, -6, -1.5, 0.5}};
+  const LineSearch s = search_along(valley, [&](double x) { return valley.slope(x); });
+  ASSERT_EQ(s.backtracking.size(), 2u);
+  ASSERT_GE(s.probes.size(), 3u);
+  // The parabola through (0, 0), (1/2, f(1/2)) and (1, f(1)): its vertex at
+  // 1/2 - f(1) / (4 (f(1) - 2 f(1/2))).
+  const double f_one = s.backtracking.front().second, f_half = s.backtracking.back().second;
+  EXPECT_NEAR(s.probes[0].first, 0.5 - f_one / (4 * (f_one - 2 * f_half)), 1e-12);
+  EXPECT_NEAR(s.probes[1].first, (1 - kGolden) * s.probes[0].first, 1e-12);
+  // The parabola through the three best points, (a1, f1), (a0, f0) and (1/2, f(1/2)): concave.
+  const double a1 = s.probes[1].first, f1 = s.probes[1].second, a0 = s.probes[0].first,
+               f0 = s.probes[0].second;
+  const double s10 = (f0 - f1) / (a0 - a1), s0h = (f_half - f0) / (0.5 - a0);
+  ASSERT_LT(s0h, s10);
+  // Its vertex lies where its slope, s10 at (a1 + a0) / 2 falling linearly to s0h at
+  // (a0 + 1/2) / 2, is 0:
+  const double u = 0.5 * (a1 + a0), v = 0.5 * (a0 + 0.5);
+  ASSERT_GT(u + s10 * (v - u) / (s10 - s0h), a0);  // beyond the bracket [0, a0]
+  EXPECT_NEAR(s.probes[2].first, (1 - kGolden) * a1, 1e-12);
+  expect_brent_invariants(s);
+  EXPECT_LE(std::abs(s.taken - 0.25), kLineTolerance * s.taken);
 }
 
 }  // namespace
