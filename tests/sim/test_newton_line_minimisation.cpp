@@ -375,5 +375,30 @@ TEST(NewtonLineMinimisation, AParabolaBeyondTheBracketGivesWayToAGoldenStep) {
   EXPECT_LE(std::abs(s.taken - 0.25), kLineTolerance * s.taken);
 }
 
+// The stop at a bracket exactly kLineTolerance of the best fraction wide, where every number the
+// search computes is exact in binary: the valley's floor is alpha = 25/64 (CCD's bound 2 alpha
+// raises the energy); the parabola through 0, alpha and 2 alpha (energies 0, -99 w, 2 w) sends the
+// first probe to alpha - alpha / 200 = alpha - 1/512, and the parabola through the three best
+// points (the energy there is 101 w / 13200 above the floor, w = 13200 / 2^14) the second to
+// alpha + 1/512; both raise the energy, and the bracket between them is 4/1024 = kLineTolerance
+// alpha wide, which ends the search at alpha (at "<": a third probe). The near side's slope, -256,
+// makes the Newton step exactly 1 (its Cholesky factor is 16).
+TEST(NewtonLineMinimisation, ABracketOnePercentOfTheBestFractionWideEndsTheSearch) {
+  const double alpha = 25.0 / 64, d = alpha / 200, w = 825.0 / 1024, floor = -99 * w;
+  const PiecewiseLinear valley{{0, 0.25, alpha - d, alpha, alpha + d, 2 * alpha},
+                               {0, -64, floor + 101.0 / 16384, floor, floor + 0.125, 2 * w}};
+  ASSERT_EQ(d, 1.0 / 512);
+  ASSERT_EQ((alpha + d) - (alpha - d), kLineTolerance * alpha);
+  const LineSearch s = search_along(
+      valley, [&](double x) { return valley.slope(x); }, 2 * alpha);
+  ASSERT_EQ(s.backtracking.size(), 2u);
+  EXPECT_EQ(s.alpha(), alpha);
+  ASSERT_EQ(s.probes.size(), 2u);
+  EXPECT_EQ(s.probes[0].first, alpha - d);
+  EXPECT_EQ(s.probes[1].first, alpha + d);
+  EXPECT_EQ(s.taken, alpha);
+  expect_brent_invariants(s);
+}
+
 }  // namespace
 }  // namespace rbaa
