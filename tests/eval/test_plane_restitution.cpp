@@ -1,7 +1,8 @@
 // The rigid twin's restitution against planes, fitted to the deformable baseline's first contact
 // with each (SPEC section 6), where the fit used to miss or bias it: a further body's bounce off
-// a plane the object never touches, an impact slower than 10 |g| h, and the gravity gained
-// during a bounce under gravity (which the mesh floors' fit took off, the planes' did not).
+// a plane the object never touches, an impact slower than 10 |g| h, the gravity gained during a
+// bounce under gravity (which the mesh floors' fit took off, the planes' did not), and a further
+// body's episode with nothing to fit (which set its restitution against the plane to 1).
 // Every check is of the calibrated twin against the deformable run, or of the report.
 
 #include <gtest/gtest.h>
@@ -206,6 +207,74 @@ TEST(PlaneRestitution, APlaneAndAMeshFloorUnderGravityAreFittedAlike) {
                 dv / g_step);
     EXPECT_LT(std::abs(dv), 0.5 * g_step);
   }
+}
+
+// The object's bounce off the floor is fitted (restitution 0.78); a ball (a further body, the
+// compared one) thrown down onto the same floor comes within d_hat of it only at the run's last
+// position, so its episode is unfinished and there is nothing to fit. Its twin still meets the
+// floor in the last step: Bullet must give that (ball, floor) pair the floor's own restitution
+// (times the ball's 1), as the object gets. Before f2344bd the unfitted episode was entered in
+// body_plane_restitution at 1 (measured: the twin's ball left the floor at T at +2.5782 m/s
+// against -2.5684 m/s a step before, a ratio of 1.0038, where the floor's 0.7844 gives +2.0222
+// m/s, 0.7874).
+TEST(PlaneRestitution, AFurtherBodysUnfinishedEpisodeLeavesThePlanesOwnRestitution) {
+  const Scene scene = parse_scene(
+      "mesh: {shape: sphere, radius: 0.05, target_tets: 300}\n"
+      "object: {position: [0, 0, 0.07], velocity: [0, 0, -2.0]}\n"
+      "bodies:\n"
+      "  - {name: ball, mesh: {shape: sphere, radius: 0.05, target_tets: 300}, "
+      "position: [1.0, 0, 0.1851], velocity: [0, 0, -2.0]}\n"
+      "obstacles: {planes: [{normal: [0, 0, 1], offset: 0}]}\n"
+      "time: {step: 0.002, duration: 0.06}\n"
+      "evaluation: {time_step: 0.002, duration: 0.06, body: ball}\n"
+      "contact: {d_hat: 1.0e-3}\n"
+      "reference_material: {Y: 1.0e10, nu: 0.28, rho: 2500}\n"
+      "material_bounds: {Y: [2.5e9, 6.5e11]}\n",
+      "late_ball.yaml", dir());
+  const Evaluation ev = evaluate_uniform(scene);
+  const RestitutionCalibration* floor = plane_calibration(ev, 0, 0);
+  const RestitutionCalibration* ball = plane_calibration(ev, 1, 0);
+  ASSERT_NE(floor, nullptr);
+  ASSERT_NE(ball, nullptr);
+  const size_t n = ev.rigid_reference.velocity.size();
+  ASSERT_GE(n, 2u);
+  const double v_in = ev.rigid_reference.velocity[n - 2].z();
+  const double v_out = ev.rigid_reference.velocity[n - 1].z();
+  std::printf(
+      "late ball: floor restitution %.6f (calibrated %d); ball's episode at %.3f s, calibrated %d, "
+      "baseline rebound %.6f, rigid %.6f; the twin's ball moves at %.6f m/s, then %.6f m/s at T "
+      "(ratio %.6f)\n",
+      floor->restitution, floor->calibrated, ball->time, ball->calibrated, ball->deformable_rebound,
+      ball->rigid_rebound, v_in, v_out, -v_out / v_in);
+  // The floor's own value is a fit well below 1, so the two behaviours differ.
+  ASSERT_TRUE(floor->calibrated);
+  ASSERT_LT(floor->restitution, 0.9);
+  // The ball's episode is the run's last position, unfinished: nothing to fit, no twin run.
+  EXPECT_NEAR(ball->time, scene.duration, 1e-12);
+  EXPECT_FALSE(ball->calibrated);
+  EXPECT_TRUE(std::isnan(ball->deformable_rebound));
+  EXPECT_TRUE(std::isnan(ball->rigid_rebound));
+  // The twin's ball bounced in the last step, at the floor's restitution: to the gravity of the
+  // step (g h / |v_in|, 0.0076) for where in the step Bullet's impact fell.
+  ASSERT_LT(v_in, 0);
+  ASSERT_GT(v_out, 0) << "the twin's ball did not reach the floor by T";
+  EXPECT_NEAR(-v_out / v_in, floor->restitution, 9.8 * scene.time_step / -v_in)
+      << "the twin gave the (ball, floor) pair another restitution than the floor's own "
+      << floor->restitution;
+
+  const std::string out = dir() + "/rbaa_late_ball_" + std::to_string(::getpid());
+  write_evaluation(ev, scene, out);
+  std::ifstream in(out + "/report.json");
+  const auto report = nlohmann::json::parse(in);
+  bool listed = false;
+  for (const auto& j : report["calibration"]) {
+    if (j["contact"] == "plane 0 (ball)") {
+      listed = true;
+      EXPECT_EQ(j["body"], 1);
+      EXPECT_EQ(j["calibrated"], false);
+    }
+  }
+  EXPECT_TRUE(listed);
 }
 
 }  // namespace
