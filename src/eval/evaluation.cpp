@@ -294,6 +294,27 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
   return std::nan("");
 }
 
+namespace {
+
+// Body `body`'s first rebound off plane `plane` in a twin's run (rigid_first_rebound on its
+// states), an impact confirmed by Bullet's touches of that (body, plane) pair: impact k changes
+// the velocity from sample k to k + 1, so the touches logged at sample k + 1 (1 .. the last).
+double rigid_plane_rebound(const std::vector<std::vector<RigidState>>& states,
+                           const std::vector<RigidTouch>& touches, int body, int plane,
+                           const Scene& scene, int start) {
+  const RigidContactSide first{RigidContactSide::Kind::kBody, body};
+  const RigidContactSide second{RigidContactSide::Kind::kPlane, plane};
+  std::vector<char> touched(states.front().size(), 0);
+  for (const RigidTouch& t : touches) {
+    if (t.first == first && t.second == second) touched.at(t.sample) = 1;
+  }
+  return rigid_first_rebound(
+      states.at(body), scene.planes[plane], scene.gravity,
+      [&](int k) { return touched.at(k + 1) != 0; }, start);
+}
+
+}  // namespace
+
 const char* restitution_contact_name(RestitutionContact contact) {
   switch (contact) {
     case RestitutionContact::kPlane:
@@ -410,22 +431,13 @@ RestitutionCalibration calibrate_restitution(const RigidMassProperties& mass,
   if (settings.plane_restitution.size() < scene.planes.size()) settings.plane_restitution.resize(scene.planes.size(), 1.0);
   // The episode starts at an impact with this plane, Bullet's own contact (RigidTouch), not at a
   // blow from another body or obstacle that the object then carries down onto the plane.
-  const RigidContactSide object{RigidContactSide::Kind::kBody, 0};
-  const RigidContactSide side{RigidContactSide::Kind::kPlane, plane};
   auto rebound = [&](double e) {
     settings.plane_restitution[plane] = e;
     ++c.iterations;
     std::vector<RigidTouch> touches;
     const auto states =
         simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
-    std::vector<char> touched(states.front().size(), 0);  // by sample (1 .. the last)
-    for (const RigidTouch& t : touches) {
-      if (t.first == object && t.second == side) touched.at(t.sample) = 1;
-    }
-    // Impact k changes the velocity from sample k to k + 1: the touches logged at sample k + 1.
-    return rigid_first_rebound(
-        states.front(), scene.planes[plane], scene.gravity,
-        [&](int k) { return touched.at(k + 1) != 0; }, target_start);
+    return rigid_plane_rebound(states, touches, 0, plane, scene, target_start);
   };
   std::function<double(double)> twin_closeness;
   if (closeness) {
@@ -618,18 +630,12 @@ RestitutionCalibration calibrate_contact_restitution(
     std::vector<RigidTouch> touches;
     const auto states =
         simulate_rigid_bodies(mass, shape, scene, settings, duration, further, &touches);
-    const int num_samples = static_cast<int>(states.front().size());
     if (plane) {
       // As the object's planes: the body's own first bounce off it, rocking corners and all.
-      std::vector<char> touched(num_samples, 0);
-      for (const RigidTouch& t : touches) {
-        if (t.first == first && t.second == second) touched.at(t.sample) = 1;
-      }
-      return rigid_first_rebound(
-          states.at(episode.body), scene.planes[episode.other], scene.gravity,
-          [&](int k) { return touched.at(k + 1) != 0; }, k_in);
+      return rigid_plane_rebound(states, touches, episode.body, episode.other, scene, k_in);
     }
-    const auto [n_first, n_last] = rigid_episode(touches, first, second, num_samples);
+    const auto [n_first, n_last] =
+        rigid_episode(touches, first, second, static_cast<int>(states.front().size()));
     if (n_first < 1) return std::nan("");
     auto rigid_velocity = [&](int b, const PrescribedMotion* drive, int k) -> Eigen::Vector3d {
       if (drive) return drive->point_velocity(sides.material_point, states[b][k].time);
