@@ -274,16 +274,27 @@ double rigid_first_rebound(const std::vector<RigidState>& states, const Plane& p
   for (int k = 0; k < n; ++k) {
     if (!(normal_velocity(k) < 0) || !impact(k)) continue;
     int last = k;
-    // Approaching since the last impact: a body that turned away and falls back (a slow bounce
-    // whose hop is shorter than the three steps) begins another bounce.
+    // Approaching at every step since the last impact: a body that turned away and falls back (a
+    // slow bounce whose hop is shorter than the three steps) begins another bounce. Kept as the
+    // steps are asked for, each read once per impact: every step in (last, checked] approaches,
+    // and `turned` is the first after `last` that does not (-1 until one is read).
+    int checked = k, turned = -1;
     auto approaching = [&](int j) {
-      for (int i = last + 1; i <= j; ++i) {
-        if (!(normal_velocity(i) < 0)) return false;
+      if (turned >= 0) return j < turned;
+      for (; checked < j; ++checked) {
+        if (!(normal_velocity(checked + 1) < 0)) {
+          turned = checked + 1;
+          return false;
+        }
       }
       return true;
     };
     auto goes_on = [&](int j) { return j <= last + 3 || approaching(j); };
-    const int end = impact_end(k, n, impact, [&](int j) { last = j; }, goes_on);
+    auto visit = [&](int j) {
+      last = checked = j;
+      turned = -1;
+    };
+    const int end = impact_end(k, n, impact, visit, goes_on);
     int j = end;
     while (j < n && goes_on(j)) ++j;
     if (j >= n) return std::nan("");  // the trace ended within the episode
