@@ -761,6 +761,7 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
     }
     return twin_closeness(run, first, end);
   };
+  std::vector<size_t> plane_own;  // further bodies' plane contacts left at the plane's own value
   for (const Contact& contact : contacts) {
     if (contact.episode) {
       const ContactEpisode& e = *contact.episode;
@@ -775,6 +776,8 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
         // driven body) leaves it the plane's restitution, not 1 (review of 8d8355f).
         if (c.calibrated || std::isfinite(c.rigid_rebound)) {
           rigid.body_plane_restitution.push_back({c.body_a, c.plane, c.restitution});
+        } else {
+          plane_own.push_back(calibrations.size());
         }
       } else {
         rigid.pair_restitution.push_back({c.body_a, c.body_b, c.restitution});
@@ -800,6 +803,12 @@ std::vector<RestitutionCalibration> calibrate_to_run(const SimulationRun& run,
     c.time = b.first_step * scene.time_step;
     rigid.plane_restitution[plane] = c.restitution;
     calibrations.push_back(c);
+  }
+  // Those report what the twin gives them: the body's restitution times the plane's, as the
+  // object's bounces left it (not 1 unless that is what the twin uses).
+  for (const size_t i : plane_own) {
+    RestitutionCalibration& c = calibrations[i];
+    c.restitution = rigid.restitution * rigid.plane_restitution.at(c.plane);
   }
   // Planes the object touched with no rebound to fit (no reversal, an unfinished contact), each at
   // its first contact: their restitution stays 1, and the report says so.

@@ -256,8 +256,8 @@ void write_evaluation(const Evaluation& ev, const Scene& scene, const std::strin
            "fitted to the deformable baseline's first "
            "contact with it (a mesh's or a pair's rebound: the relative velocity along the contact's impulse; "
            "restitution in [0, 1], above 1 only for a rebound above 1; of several that fit, the one whose twin "
-           "follows the baseline closest; not fitted: the restitution whose rebound came nearest, or 1 if the "
-           "twin never meets that contact):\n\n"
+           "follows the baseline closest; not fitted: the restitution whose rebound came nearest, or, if the "
+           "twin never meets that contact, 1 (a further body against a plane: the plane's own)):\n\n"
         << "| contact | first contact (s) | baseline rebound | rigid rebound | Bullet restitution | later baseline rebounds |\n"
         << "|---|---|---|---|---|---|\n";
     for (const auto& c : ev.calibrations) {

@@ -254,6 +254,8 @@ TEST(PlaneRestitution, AFurtherBodysUnfinishedEpisodeLeavesThePlanesOwnRestituti
   EXPECT_FALSE(ball->calibrated);
   EXPECT_TRUE(std::isnan(ball->deformable_rebound));
   EXPECT_TRUE(std::isnan(ball->rigid_rebound));
+  // What the report gives the pair is what the twin used: the floor's own restitution, not 1.
+  EXPECT_EQ(ball->restitution, floor->restitution);
   // The twin's ball bounced in the last step, at the floor's restitution: to the gravity of the
   // step (g h / |v_in|, 0.0076) for where in the step Bullet's impact fell.
   ASSERT_LT(v_in, 0);
@@ -272,6 +274,7 @@ TEST(PlaneRestitution, AFurtherBodysUnfinishedEpisodeLeavesThePlanesOwnRestituti
       listed = true;
       EXPECT_EQ(j["body"], 1);
       EXPECT_EQ(j["calibrated"], false);
+      EXPECT_EQ(j["restitution"].get<double>(), floor->restitution);
     }
   }
   EXPECT_TRUE(listed);

@@ -49,7 +49,9 @@ const char* restitution_contact_name(RestitutionContact contact);
 /// run's first contact episode with it (a plane's: its first bounce).
 struct RestitutionCalibration {
   /// false when there is no clean episode (the normal velocity did not reverse, the episode did
-  /// not end) or the rigid twin never meets that contact: the restitution then stays 1.
+  /// not end) or the rigid twin never meets that contact: the restitution then stays 1, but for
+  /// a further body's plane, which keeps the plane's own (the object's fit against it, or 1) and
+  /// reports that value.
   bool calibrated = false;
   RestitutionContact contact = RestitutionContact::kPlane;
   /// The report's: "plane 0" (the object's), "plane 0 (ball)", "mesh backboard", "bodies
