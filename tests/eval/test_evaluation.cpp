@@ -154,6 +154,29 @@ TEST(Evaluation, CalibratedRestitutionReproducesTheTargetOnATiltedCube) {
   EXPECT_NEAR(-again.back().velocity.z() / again.front().velocity.z(), fine.rigid_rebound, 1e-14);
 }
 
+// Without a touch log an impact is a change of the normal velocity by more than 10 |g| h: under
+// gravity every step of a free fall changes it by |g| h, which is no impact, so the episode starts
+// at the bounce, and with gravity taken off over it the rebound is the bounce's own. A ball falling
+// at h = 0.01 s from -1 m/s, bouncing between samples 10 and 11 at 0.5 (its velocity reversed,
+// then gravity's step), falling on to sample 30.
+TEST(Evaluation, RigidReboundUnderGravityWithoutATouchLogStartsAtTheBounce) {
+  const double h = 0.01, e = 0.5;
+  const Eigen::Vector3d g(0, 0, -9.8);
+  std::vector<RigidState> states(31);
+  for (int k = 0; k <= 30; ++k) {
+    states[k].time = k * h;
+    const double v10 = -1 + g.z() * 10 * h;
+    const double vz = k <= 10 ? -1 + g.z() * k * h : -e * v10 + g.z() * (k - 10) * h;
+    states[k].velocity = Eigen::Vector3d(0.3, 0, vz);
+  }
+  Plane floor;
+  floor.normal = Eigen::Vector3d::UnitZ();
+  floor.offset = 0;
+  const double rebound = rigid_first_rebound(states, floor, g);
+  std::printf("synthetic bounce under gravity, no touch log: rebound %.15f\n", rebound);
+  EXPECT_NEAR(rebound, e, 1e-14);
+}
+
 // The same tilted cube at a fine step (0.2 ms): its first corner leaves it still approaching the
 // floor, and its next corner strikes 20 steps later. That is one bounce (the deformable run's
 // episode goes on while the body approaches, impact_end), so its rebound is the whole run's:
