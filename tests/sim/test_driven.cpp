@@ -13,6 +13,7 @@
 #include <string>
 
 #include "driven_fixtures.hpp"
+#include "obstacle_fixtures.hpp"
 #include "rbaa/error.hpp"
 #include "rbaa/sim/observables.hpp"
 #include "rbaa/sim/simulator.hpp"
@@ -264,6 +265,7 @@ TEST(Driven, APrescribedStepThroughAnObstacleIsAnErrorNamingTheStep) {
   std::printf("through a plane: %s\n", m.c_str());
   EXPECT_EQ(intersection, "");
   EXPECT_NE(m.find("step 3 "), std::string::npos) << m;
+  EXPECT_NE(m.find(" would intersect"), std::string::npos) << m;
   EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
 }
@@ -278,7 +280,30 @@ TEST(Driven, APrescribedStepThroughAnotherBodyIsAnErrorNamingTheStep) {
   std::printf("through a body: %s\n", m.c_str());
   EXPECT_EQ(intersection, "");
   EXPECT_NE(m.find("step 1 "), std::string::npos) << m;
+  EXPECT_NE(m.find(" would intersect"), std::string::npos) << m;
   EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
+  EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+}
+
+TEST(Driven, APrescribedStepThroughAnObstacleMeshIsAnErrorNamingTheStep) {
+  // The paddle driven back (-x) at 1 m/s towards a square obstacle at x = -0.0025 (spanning the
+  // paddle's back face, y, z in [0.005, 0.035]) from 2.5 mm in front of it: the third step's
+  // prescribed move (h = 1e-3, 1 mm per step) would carry the back face's middle vertex through it.
+  test::DrivenScene s = test::driven_paddle();
+  s.bodies[0].drive.velocity = Eigen::Vector3d(-1.0, 0, 0);
+  s.settings.bodies = s.bodies;
+  s.v0 = initial_velocities(s.q0, s.bodies);
+  const double x = -0.0025, lo = 0.005, hi = 0.035;
+  s.settings.obstacle_meshes = {test::obstacle_mesh(
+      {{x, lo, lo}, {x, hi, lo}, {x, hi, hi}, {x, lo, hi}}, {{0, 1, 2}, {0, 2, 3}}, "wall")};
+  Simulator sim(s.mesh, s.materials, s.settings);
+  std::string intersection;
+  const std::string m = error_of(sim, s, intersection);
+  std::printf("through an obstacle mesh: %s\n", m.c_str());
+  EXPECT_EQ(intersection, "");
+  EXPECT_NE(m.find("step 3 "), std::string::npos) << m;
+  EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
+  EXPECT_NE(m.find(" would intersect"), std::string::npos) << m;
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
 }
 
