@@ -134,6 +134,30 @@ std::vector<Body> free_bodies(const std::vector<Body>& bodies) {
   return free;
 }
 
+// How a driven body's straight move a -> z checks out (Simulator::driven_start).
+enum class DrivenMove { kClear, kIntersects, kUncertified };
+
+// The halvings a capped check of a driven move may take: 2^8 = 256 pieces at most.
+constexpr int kDrivenMoveHalvings = 8;
+
+// is_step_valid on the straight move a -> z. A CCD search that its iteration cap stopped (a pair
+// sliding past at a distance far below its motion, ~motion / distance iterations: 1e6 for
+// parallel edges 1e-8 m apart sliding 1 cm) refuses a move it could not certify, not one that
+// intersects; such a move is checked again in halves along the same path (each half needs half
+// the iterations), up to `halvings` deep. Each piece keeps 1e-3 of its own start gap, so the
+// pieces together still certify the path free of intersection. A check that fails with no search
+// capped intersects; one still capped at the deepest level is uncertified.
+DrivenMove check_driven_move(const IncrementalPotential& E, const Eigen::VectorXd& a,
+                             const Eigen::VectorXd& z, int halvings) {
+  const long caps = E.ccd_caps();
+  if (E.is_step_valid(a, z)) return DrivenMove::kClear;
+  if (E.ccd_caps() == caps) return DrivenMove::kIntersects;
+  if (halvings == 0) return DrivenMove::kUncertified;
+  const Eigen::VectorXd mid = 0.5 * (a + z);
+  const DrivenMove first = check_driven_move(E, a, mid, halvings - 1);
+  return first != DrivenMove::kClear ? first : check_driven_move(E, mid, z, halvings - 1);
+}
+
 }  // namespace
 
 Simulator::Simulator(const TetMesh& rest, const MaterialField& materials,
@@ -368,10 +392,19 @@ Eigen::VectorXd Simulator::driven_start(const Eigen::VectorXd& q_n, double t,
     Eigen::VectorXd to = from;
     for (int i : b.driven_vertices)
       to.segment<3>(3 * i) = b.drive.position(driven_origin_.segment<3>(3 * i), t);
-    if (!potential_->is_step_valid(from, to)) {
+    const DrivenMove move = check_driven_move(*potential_, from, to, kDrivenMoveHalvings);
+    if (move == DrivenMove::kIntersects) {
       throw InputError(context + ": the prescribed motion of body " + b.name +
                        " would intersect: moving its driven vertices from the last step's "
                        "positions crosses or touches an obstacle or another body");
+    }
+    if (move == DrivenMove::kUncertified) {
+      throw InputError(context + ": the prescribed motion of body " + b.name +
+                       " could not be certified free of intersection: the CCD's iteration cap "
+                       "stopped its check even on a 1/" +
+                       std::to_string(1 << kDrivenMoveHalvings) +
+                       " piece of the move (a pair sliding past at a distance far below its "
+                       "motion in a step); a shorter time step helps");
     }
     from = std::move(to);
   }

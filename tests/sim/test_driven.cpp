@@ -3,7 +3,8 @@
 // the system's momentum changes by exactly the impulse of those reactions; a driven body starts
 // carried by its drive (its BDF past is the drive's), so a uniformly spinning driven body feels the
 // same force from the first step on; a prescribed step that would pass through an obstacle or
-// another body is a one-line error naming the step and the body.
+// another body is a one-line error naming the step and the body; one whose CCD its iteration cap
+// stopped is checked again in pieces, and taken, or refused as uncertified, not as intersecting.
 
 #include <gtest/gtest.h>
 
@@ -305,6 +306,108 @@ TEST(Driven, APrescribedStepThroughAnObstacleMeshIsAnErrorNamingTheStep) {
   EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
   EXPECT_NE(m.find(" would intersect"), std::string::npos) << m;
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+}
+
+// A fully driven 1 cm cube sliding by `slide` in one step (h = 1e-3) along its edge from corner 0
+// to corner 1, whose direction is d = (1, 1, 1) / sqrt(3) in the world, and a triangular fin
+// whose edge runs parallel to that edge, `gap` away along the bisector of the cube's two faces
+// there, the fin pointing away from the cube (tilted off the bisector, so that the cube's edge is
+// not coplanar with it: the clearance's double-precision orientation test then reads a 1e-10 m gap
+// as a crossing). Along a diagonal direction (the offset perpendicular to it) the two edges'
+// axis-aligned boxes meet without inflation, so is_step_valid searches the pair; parallel edges
+// have no plane certificate, and the additive iteration needs ~slide / gap iterations. d_hat is
+// gap / 2: the cube starts out of contact.
+test::DrivenScene sliding_cube(double gap, double slide) {
+  const Eigen::Vector3d d = Eigen::Vector3d::Ones().normalized();
+  const Eigen::Matrix3d R =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), d).toRotationMatrix();
+  TetMesh cube = test::box_mesh(1, 1, 1, 0.01);
+  for (int v = 0; v < cube.num_vertices(); ++v) {
+    cube.V.row(v) = (R * cube.V.row(v).transpose()).transpose();
+  }
+  std::vector<int> all(cube.num_vertices());
+  for (int v = 0; v < cube.num_vertices(); ++v) all[v] = v;
+  const double h = 1e-3;
+  PrescribedMotion drive;
+  drive.velocity = (slide / h) * d;
+  test::DrivenScene s = test::stack(cube, all, drive, 0.0, Eigen::Vector3d::Zero());
+  // In the cube's frame the edge runs from the origin along x, the faces y = 0 and z = 0 meet
+  // there, and (0, 1, 1) / sqrt(2) points into the cube.
+  const Eigen::Vector3d in = Eigen::Vector3d(0, 1, 1).normalized();
+  const Eigen::Vector3d o = -gap * in;
+  s.settings.obstacle_meshes = {test::obstacle_mesh(
+      {R * (o + Eigen::Vector3d(-0.02, 0, 0)), R * (o + Eigen::Vector3d(0.05, 0, 0)),
+       R * (o + Eigen::Vector3d(0.015, 0, 0) - 0.02 * Eigen::Vector3d(0, 1, 2).normalized())},
+      {{0, 1, 2}}, "fin")};
+  s.settings.time_step = h;
+  s.settings.num_steps = 1;
+  s.settings.d_hat = gap / 2;
+  s.settings.kappa = 1e3;
+  return s;
+}
+
+// The cube's q0 moved by `fraction` of one step's slide.
+Eigen::VectorXd slid(const test::DrivenScene& s, double fraction) {
+  Eigen::VectorXd q = s.q0;
+  const Eigen::Vector3d step = s.settings.time_step * s.driven().drive.velocity;
+  for (Eigen::Index v = 0; v < q.size() / 3; ++v) q.segment<3>(3 * v) += fraction * step;
+  return q;
+}
+
+TEST(Driven, AStepWhoseCcdIsCappedButHarmlessIsCheckedInPiecesAndTaken) {
+  // 1 cm of slide per step 1e-8 m from the fin's edge: ~1e6 iterations, the cap is 1e5.
+  const test::DrivenScene s = sliding_cube(1e-8, 0.01);
+  Simulator sim(s.mesh, s.materials, s.settings);
+  // The first step's straight move, checked whole: refused, and only because searches were capped.
+  IncrementalPotential& E = sim.potential();
+  const Eigen::VectorXd q1 = slid(s, 1.0);
+  EXPECT_FALSE(E.is_step_valid(s.q0, q1));
+  const long whole = E.ccd_caps();
+  // In 16 pieces (~6e4 iterations each) every piece is certified and nothing is capped.
+  bool pieces_valid = true;
+  for (int k = 0; k < 16; ++k)
+    pieces_valid &= E.is_step_valid(slid(s, k / 16.0), slid(s, (k + 1) / 16.0));
+  const long in_pieces = E.ccd_caps() - whole;
+  std::printf("capped slide: the whole step %ld capped searches, in 16 pieces %s with %ld\n", whole,
+              pieces_valid ? "valid" : "INVALID", in_pieces);
+  EXPECT_GE(whole, 1);
+  EXPECT_TRUE(pieces_valid);
+  EXPECT_EQ(in_pieces, 0);
+
+  // The run meets the same capped searches in its driven start and takes the step, the cube on
+  // its drive, nothing intersecting.
+  std::string intersection;
+  const std::string m = error_of(sim, s, intersection);
+  const long in_run = E.ccd_caps() - whole - in_pieces;
+  std::printf("capped slide run: \"%s\", %ld capped searches in its step\n", m.c_str(), in_run);
+  EXPECT_EQ(m, "");
+  EXPECT_EQ(intersection, "");
+  EXPECT_GE(in_run, whole);
+  EXPECT_EQ(sim.step_index(), 1);
+  EXPECT_LE(follow_error(s, sim.integrator().current(), 1), 1e-15);
+  const ObstacleClearance c = sim.mesh_obstacle_form()->clearance(sim.integrator().current(), 1e-6);
+  std::printf("capped slide: clearance after 1 cm %.3e m (%s)\n", c.distance, c.pair.c_str());
+  EXPECT_FALSE(c.intersecting);
+  EXPECT_NEAR(c.distance, 1e-8, 1e-12);
+}
+
+TEST(Driven, AStepWhoseCcdStaysCappedInEveryPieceIsAnErrorSayingSo) {
+  // 1 cm of slide 1e-10 m from the fin's edge: ~1e8 iterations, still ~4e5 on a 1/256 piece.
+  const test::DrivenScene s = sliding_cube(1e-10, 0.01);
+  Simulator sim(s.mesh, s.materials, s.settings);
+  std::string intersection;
+  const std::string m = error_of(sim, s, intersection);
+  std::printf("capped in every piece: %s\n", m.c_str());
+  EXPECT_EQ(intersection, "");
+  EXPECT_NE(m.find("step 1 "), std::string::npos) << m;
+  EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
+  EXPECT_NE(m.find(" could not be certified free of intersection"), std::string::npos) << m;
+  EXPECT_EQ(m.find("would intersect"), std::string::npos) << m;
+  EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  // Nothing intersects: the end of the step is as clear as its start.
+  const ObstacleClearance c = sim.mesh_obstacle_form()->clearance(slid(s, 1.0), 1e-6);
+  EXPECT_FALSE(c.intersecting);
+  EXPECT_NEAR(c.distance, 1e-10, 1e-13);
 }
 
 TEST(Driven, BadDrivenVerticesAreRefused) {

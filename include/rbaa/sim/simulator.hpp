@@ -109,10 +109,12 @@ class Simulator {
   void reset(const Eigen::VectorXd& q0, const Eigen::VectorXd& v0);
   /// One time step of the integrator's next size (the scene's h unless set_next_step, which holds
   /// until set again; the forms take the step's own rule and weight each time); throws
-  /// rbaa::SolverError naming the step when Newton fails. With driven vertices the step first moves them alone from q_n to their prescribed positions at t_{n+1}
-  /// (rbaa::InputError naming the step and the body if that move is not admissible: it crosses,
-  /// touches or closes to within 1e-3 of a gap to an obstacle or another body), then minimises
-  /// over the other dofs with them fixed.
+  /// rbaa::SolverError naming the step when Newton fails. With driven vertices the step first moves
+  /// them alone from q_n to their prescribed positions at t_{n+1} (rbaa::InputError naming the step
+  /// and the body if that move is not admissible: it crosses, touches or closes to within 1e-3 of a
+  /// gap to an obstacle or another body; a move whose CCD its iteration cap stopped is checked
+  /// again in up to 256 pieces, each keeping 1e-3 of its own start gap, and is another InputError
+  /// if still capped), then minimises over the other dofs with them fixed.
   StepStats advance();
   /// The size of the next step(s), in units of h / max(1, contact_substeps): 1 ..
   /// max(1, contact_substeps) of them (the weights, friction's rule and Newton's tolerance follow).
