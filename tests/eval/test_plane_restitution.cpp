@@ -280,5 +280,37 @@ TEST(PlaneRestitution, AFurtherBodysUnfinishedEpisodeLeavesThePlanesOwnRestituti
   EXPECT_TRUE(listed);
 }
 
+// The object bouncing between a floor and a ceiling without gravity (floor, ceiling, floor): each
+// plane is fitted once, at its first bounce, and the floor's second bounce is listed as a later
+// rebound of that fit, not fitted again (a second fit would overwrite the first's restitution).
+TEST(PlaneRestitution, AnObjectsLaterBounceOffAPlaneIsListedNotFittedAgain) {
+  const Scene scene = parse_scene(
+      "mesh: {shape: sphere, radius: 0.05, target_tets: 300}\n"
+      "object: {position: [0, 0, 0.075], velocity: [0, 0, -2.0]}\n"
+      "obstacles: {planes: [{normal: [0, 0, 1], offset: 0}, {normal: [0, 0, -1], offset: -0.15}]}\n"
+      "gravity: [0, 0, 0]\n"
+      "time: {step: 0.002, duration: 0.2}\n"
+      "evaluation: {time_step: 0.002, duration: 0.2}\n"
+      "contact: {d_hat: 1.0e-3}\n"
+      "reference_material: {Y: 1.0e10, nu: 0.28, rho: 2500}\n"
+      "material_bounds: {Y: [2.5e9, 6.5e11]}\n",
+      "between_planes.yaml", dir());
+  const Evaluation ev = evaluate_uniform(scene);
+  int fits[2] = {0, 0};
+  for (const RestitutionCalibration& c : ev.calibrations) {
+    if (c.contact == RestitutionContact::kPlane && c.body_a == 0) ++fits[c.plane];
+  }
+  const RestitutionCalibration* floor = plane_calibration(ev, 0, 0);
+  ASSERT_NE(floor, nullptr);
+  std::printf("between planes: fits floor %d, ceiling %d; floor rebound %.6f, later %zu\n",
+              fits[0], fits[1], floor->deformable_rebound,
+              floor->later_deformable_rebounds.size());
+  EXPECT_EQ(fits[0], 1);
+  EXPECT_EQ(fits[1], 1);
+  EXPECT_TRUE(floor->calibrated);
+  ASSERT_EQ(floor->later_deformable_rebounds.size(), 1u);
+  EXPECT_GT(floor->later_deformable_rebounds[0], 0.0);
+}
+
 }  // namespace
 }  // namespace rbaa
