@@ -45,6 +45,20 @@ const RestitutionCalibration* plane_calibration(const Evaluation& ev, int body, 
   return nullptr;
 }
 
+// The report.json entry of calibration `contact` ("plane 0 (ball)") that write_evaluation wrote
+// for `ev` into a fresh directory named after `name`; null if the report lists no such contact.
+nlohmann::json calibration_entry(const Evaluation& ev, const Scene& scene, const std::string& name,
+                                 const std::string& contact) {
+  const std::string out = dir() + "/rbaa_" + name + "_" + std::to_string(::getpid());
+  write_evaluation(ev, scene, out);
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  for (const auto& j : report["calibration"]) {
+    if (j["contact"] == contact) return j;
+  }
+  return nullptr;
+}
+
 // A ball (a further body, the compared one) thrown down onto the floor z = 0, the object far
 // above it, never touching anything. The ball's bounce is the floor's only one: before, the
 // floor's fit read the object's bounces alone, so the twin's ball bounced off it at restitution
@@ -87,21 +101,13 @@ TEST(PlaneRestitution, AFurtherBodysBounceOffAPlaneIsFittedAndReported) {
   // of the floor for some steps where the twin's impulse is one): measured 6.5 %.
   EXPECT_LT(ev.baseline_disagreement, 0.1);
 
+  const nlohmann::json j = calibration_entry(ev, scene, "plane_restitution", "plane 0 (ball)");
+  ASSERT_FALSE(j.is_null()) << "report.json lists no plane 0 (ball)";
+  EXPECT_EQ(j["kind"], "plane");
+  EXPECT_EQ(j["plane"], 0);
+  EXPECT_EQ(j["body"], 1);
+  EXPECT_EQ(j["calibrated"], true);
   const std::string out = dir() + "/rbaa_plane_restitution_" + std::to_string(::getpid());
-  write_evaluation(ev, scene, out);
-  std::ifstream in(out + "/report.json");
-  const auto report = nlohmann::json::parse(in);
-  bool listed = false;
-  for (const auto& j : report["calibration"]) {
-    if (j["contact"] == "plane 0 (ball)") {
-      listed = true;
-      EXPECT_EQ(j["kind"], "plane");
-      EXPECT_EQ(j["plane"], 0);
-      EXPECT_EQ(j["body"], 1);
-      EXPECT_EQ(j["calibrated"], true);
-    }
-  }
-  EXPECT_TRUE(listed);
   std::ifstream summary(out + "/summary.md");
   const std::string text((std::istreambuf_iterator<char>(summary)),
                          std::istreambuf_iterator<char>());
@@ -264,20 +270,11 @@ TEST(PlaneRestitution, AFurtherBodysUnfinishedEpisodeLeavesThePlanesOwnRestituti
       << "the twin gave the (ball, floor) pair another restitution than the floor's own "
       << floor->restitution;
 
-  const std::string out = dir() + "/rbaa_late_ball_" + std::to_string(::getpid());
-  write_evaluation(ev, scene, out);
-  std::ifstream in(out + "/report.json");
-  const auto report = nlohmann::json::parse(in);
-  bool listed = false;
-  for (const auto& j : report["calibration"]) {
-    if (j["contact"] == "plane 0 (ball)") {
-      listed = true;
-      EXPECT_EQ(j["body"], 1);
-      EXPECT_EQ(j["calibrated"], false);
-      EXPECT_EQ(j["restitution"].get<double>(), floor->restitution);
-    }
-  }
-  EXPECT_TRUE(listed);
+  const nlohmann::json j = calibration_entry(ev, scene, "late_ball", "plane 0 (ball)");
+  ASSERT_FALSE(j.is_null()) << "report.json lists no plane 0 (ball)";
+  EXPECT_EQ(j["body"], 1);
+  EXPECT_EQ(j["calibrated"], false);
+  EXPECT_EQ(j["restitution"].get<double>(), floor->restitution);
 }
 
 // The object bouncing between a floor and a ceiling without gravity (floor, ceiling, floor): each
