@@ -195,7 +195,6 @@ void NewtonResult::append(const NewtonResult& later) {
   line_search_halvings += later.line_search_halvings;
   line_search_probes += later.line_search_probes;
   symbolic_analyses += later.symbolic_analyses;
-  ccd_caps += later.ccd_caps;
   projected_fallbacks += later.projected_fallbacks;
   extrapolations += later.extrapolations;
   chord_steps += later.chord_steps;
@@ -214,7 +213,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
   const double tol = settings_.velocity_tolerance;
   NewtonResult result;
   const int analyses_before = solver_.num_analyses();
-  const long caps_before = E.ccd_caps();
   E.solution_changed(x);
   const bool chord = settings_.chord_first_step && factor_from_last_call_;
   // Until this call returns converged, solver_ may hold a factor of a failed iterate.
@@ -294,7 +292,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
     if (velocity < tol) {
       factor_from_last_call_ = true;
       result.symbolic_analyses = solver_.num_analyses() - analyses_before;
-      result.ccd_caps = E.ccd_caps() - caps_before;
       return result;
     }
     const bool floor_regime =
@@ -308,7 +305,6 @@ NewtonResult NewtonSolver::minimize(IncrementalPotential& E, Eigen::VectorXd& x,
         result.floor_velocity = best_velocity;
         factor_from_last_call_ = true;
         result.symbolic_analyses = solver_.num_analyses() - analyses_before;
-        result.ccd_caps = E.ccd_caps() - caps_before;
         return result;
       }
     } else {

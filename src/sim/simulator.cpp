@@ -146,7 +146,8 @@ constexpr int kDrivenMoveHalvings = 8;
 // intersects; such a move is checked again in halves along the same path (each half needs half
 // the iterations), up to `halvings` deep. Each piece keeps 1e-3 of its own start gap, so the
 // pieces together still certify the path free of intersection. A check that fails with no search
-// capped intersects; one still capped at the deepest level is uncertified.
+// capped intersects; one still capped at the deepest level is uncertified. Both halves are
+// checked unless the first intersects, so a move is uncertified only where no piece intersects.
 DrivenMove check_driven_move(const IncrementalPotential& E, const Eigen::VectorXd& a,
                              const Eigen::VectorXd& z, int halvings) {
   const long caps = E.ccd_caps();
@@ -155,7 +156,10 @@ DrivenMove check_driven_move(const IncrementalPotential& E, const Eigen::VectorX
   if (halvings == 0) return DrivenMove::kUncertified;
   const Eigen::VectorXd mid = 0.5 * (a + z);
   const DrivenMove first = check_driven_move(E, a, mid, halvings - 1);
-  return first != DrivenMove::kClear ? first : check_driven_move(E, mid, z, halvings - 1);
+  if (first == DrivenMove::kIntersects) return first;
+  // An uncertified first half still has its second checked: a crossing there is the answer.
+  const DrivenMove second = check_driven_move(E, mid, z, halvings - 1);
+  return second != DrivenMove::kClear ? second : first;
 }
 
 }  // namespace
@@ -430,6 +434,7 @@ void Simulator::apply_drive_step(const Eigen::VectorXd& q_n, double t0, double t
 
 StepStats Simulator::advance() {
   const auto start = std::chrono::steady_clock::now();
+  const long caps_before = potential_->ccd_caps();
   // The integrator re-derives the next step's rule and weight after every step (a step of h/4
   // after h has another weight than the h/4 after it): the forms take them from it each time.
   use_step(integrator_.next_rule(), integrator_.potential_weight(), integrator_.next_step());
@@ -500,6 +505,7 @@ StepStats Simulator::advance() {
 
   StepStats s;
   s.add(r);
+  s.ccd_caps = potential_->ccd_caps() - caps_before;
   s.friction_relags = relags;
   s.min_distance = contact_->min_distance(x);
   if (mesh_contact_) s.min_distance = std::min(s.min_distance, mesh_contact_->min_distance(x));

@@ -14,7 +14,6 @@ void StepStats::add(const NewtonResult& solve) {
   chord_steps += solve.chord_steps;
   line_search_probes += solve.line_search_probes;
   symbolic_analyses += solve.symbolic_analyses;
-  ccd_caps += solve.ccd_caps;
   gradient_seconds += solve.gradient_seconds;
   assembly_seconds += solve.assembly_seconds;
   factorization_seconds += solve.factorization_seconds;

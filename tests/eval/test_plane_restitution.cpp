@@ -46,10 +46,9 @@ const RestitutionCalibration* plane_calibration(const Evaluation& ev, int body, 
 }
 
 // The report.json entry of calibration `contact` ("plane 0 (ball)") that write_evaluation wrote
-// for `ev` into a fresh directory named after `name`; null if the report lists no such contact.
-nlohmann::json calibration_entry(const Evaluation& ev, const Scene& scene, const std::string& name,
+// for `ev` into the directory `out`; null if the report lists no such contact.
+nlohmann::json calibration_entry(const Evaluation& ev, const Scene& scene, const std::string& out,
                                  const std::string& contact) {
-  const std::string out = dir() + "/rbaa_" + name + "_" + std::to_string(::getpid());
   write_evaluation(ev, scene, out);
   std::ifstream in(out + "/report.json");
   const nlohmann::json report = nlohmann::json::parse(in);
@@ -101,13 +100,13 @@ TEST(PlaneRestitution, AFurtherBodysBounceOffAPlaneIsFittedAndReported) {
   // of the floor for some steps where the twin's impulse is one): measured 6.5 %.
   EXPECT_LT(ev.baseline_disagreement, 0.1);
 
-  const nlohmann::json j = calibration_entry(ev, scene, "plane_restitution", "plane 0 (ball)");
+  const std::string out = dir() + "/rbaa_plane_restitution_" + std::to_string(::getpid());
+  const nlohmann::json j = calibration_entry(ev, scene, out, "plane 0 (ball)");
   ASSERT_FALSE(j.is_null()) << "report.json lists no plane 0 (ball)";
   EXPECT_EQ(j["kind"], "plane");
   EXPECT_EQ(j["plane"], 0);
   EXPECT_EQ(j["body"], 1);
   EXPECT_EQ(j["calibrated"], true);
-  const std::string out = dir() + "/rbaa_plane_restitution_" + std::to_string(::getpid());
   std::ifstream summary(out + "/summary.md");
   const std::string text((std::istreambuf_iterator<char>(summary)),
                          std::istreambuf_iterator<char>());
@@ -270,7 +269,8 @@ TEST(PlaneRestitution, AFurtherBodysUnfinishedEpisodeLeavesThePlanesOwnRestituti
       << "the twin gave the (ball, floor) pair another restitution than the floor's own "
       << floor->restitution;
 
-  const nlohmann::json j = calibration_entry(ev, scene, "late_ball", "plane 0 (ball)");
+  const nlohmann::json j = calibration_entry(
+      ev, scene, dir() + "/rbaa_late_ball_" + std::to_string(::getpid()), "plane 0 (ball)");
   ASSERT_FALSE(j.is_null()) << "report.json lists no plane 0 (ball)";
   EXPECT_EQ(j["body"], 1);
   EXPECT_EQ(j["calibrated"], false);

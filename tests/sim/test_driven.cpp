@@ -236,11 +236,14 @@ TEST(Driven, ASpinningDrivenBodyFeelsTheSameForceFromTheFirstStep) {
 
 // The run's error message; every position it reached before the error is checked for
 // intersections (the first finding in `intersection`).
-std::string error_of(Simulator& sim, const test::DrivenScene& s, std::string& intersection) {
+// The run's error (empty if none), its first intersection and, if asked, its steps' CCD caps.
+std::string error_of(Simulator& sim, const test::DrivenScene& s, std::string& intersection,
+                     long* ccd_caps = nullptr) {
   const test::IntersectionCheck check(s.mesh, s.settings);
   intersection = check.first_intersection(s.q0);
   try {
-    sim.run(s.q0, s.v0, [&](int step, const Eigen::VectorXd& q, const StepStats&) {
+    sim.run(s.q0, s.v0, [&](int step, const Eigen::VectorXd& q, const StepStats& stats) {
+      if (ccd_caps) *ccd_caps += stats.ccd_caps;
       if (intersection.empty()) {
         const std::string what = check.first_intersection(q);
         if (!what.empty()) intersection = "q[" + std::to_string(step) + "]: " + what;
@@ -377,10 +380,13 @@ TEST(Driven, AStepWhoseCcdIsCappedButHarmlessIsCheckedInPiecesAndTaken) {
   // The run meets the same capped searches in its driven start and takes the step, the cube on
   // its drive, nothing intersecting.
   std::string intersection;
-  const std::string m = error_of(sim, s, intersection);
+  long reported = 0;
+  const std::string m = error_of(sim, s, intersection, &reported);
   const long in_run = E.ccd_caps() - whole - in_pieces;
-  std::printf("capped slide run: \"%s\", %ld capped searches in its step\n", m.c_str(), in_run);
+  std::printf("capped slide run: \"%s\", %ld capped searches in its step (%ld in its StepStats)\n",
+              m.c_str(), in_run, reported);
   EXPECT_EQ(m, "");
+  EXPECT_EQ(reported, in_run);  // the step reports every capped search it made
   EXPECT_EQ(intersection, "");
   EXPECT_GE(in_run, whole);
   EXPECT_EQ(sim.step_index(), 1);

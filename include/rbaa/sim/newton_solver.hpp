@@ -61,9 +61,6 @@ struct NewtonResult {
   int line_search_halvings = 0;   ///< summed over the iterations
   int line_search_probes = 0;     ///< energies of the line minimisation after backtracking
   int symbolic_analyses = 0;      ///< CHOLMOD symbolic analyses (a new Hessian pattern)
-  /// CCD searches the iteration cap stopped (Form::ccd_caps): each shortened or refused a step
-  /// it need not have (a pair sliding past at a distance far below its motion in a step)
-  long ccd_caps = 0;
   int projected_fallbacks = 0;    ///< exact Hessians found not positive definite
   int extrapolations = 0;         ///< step doublings taken after full steps (newton_solver.cpp)
   int chord_steps = 0;            ///< chord steps taken on the previous call's factor (0 or 1)

@@ -27,7 +27,9 @@ struct StepStats {
   int chord_steps = 0;           ///< chord steps on the previous step's factor (0 or 1)
   int line_search_probes = 0;    ///< energies of Newton's line minimisation (newton_solver.cpp)
   int symbolic_analyses = 0;     ///< CHOLMOD symbolic analyses: the Hessian's pattern changed
-  long ccd_caps = 0;             ///< CCD searches stopped by their iteration cap (Form::ccd_caps)
+  /// CCD searches of the step stopped by their iteration cap (Form::ccd_caps): the driven move's
+  /// check, the start guesses' and Newton's line search (which may search one pair several times)
+  long ccd_caps = 0;
   /// Friction re-lagged from the step's solution and solved again (friction_iterations > 1);
   /// newton_iterations includes those solves' iterations
   int friction_relags = 0;
