@@ -401,9 +401,20 @@ TEST(Driven, AStepWhoseCcdStaysCappedInEveryPieceIsAnErrorSayingSo) {
   // 1 cm of slide 1e-10 m from the fin's edge: ~1e8 iterations, still ~4e5 on a 1/256 piece.
   const test::DrivenScene s = sliding_cube(1e-10, 0.01);
   Simulator sim(s.mesh, s.materials, s.settings);
+  const IncrementalPotential& E = sim.potential();
+  EXPECT_FALSE(E.is_step_valid(s.q0, slid(s, 1.0)));
+  const long whole = E.ccd_caps();  // the capped searches of one check
   std::string intersection;
   const std::string m = error_of(sim, s, intersection);
-  std::printf("capped in every piece: %s\n", m.c_str());
+  const long in_run = E.ccd_caps() - whole;
+  std::printf("capped in every piece: %s (%ld capped searches, %ld in the whole move's check)\n",
+              m.c_str(), in_run, whole);
+  // Every one of the 1 + 2 + ... + 256 = 511 checks down to the 1/256 pieces was made and capped,
+  // and none beyond: each piece at most as many as the whole move.
+  EXPECT_GE(whole, 1);
+  EXPECT_GE(in_run, 511);
+  EXPECT_LE(in_run, 511 * whole);
+  EXPECT_NE(m.find("a shorter time step helps"), std::string::npos) << m;
   EXPECT_EQ(intersection, "");
   EXPECT_NE(m.find("step 1 "), std::string::npos) << m;
   EXPECT_NE(m.find("'striker'"), std::string::npos) << m;
